@@ -1,1 +1,29 @@
-pub fn x(){}
+//! The three-dimensional numerical manifold method (NMM).
+//!
+//! | symbol | meaning | where |
+//! |---|---|---|
+//! | $w_i(\mathbf x)$ | weight function of a mathematical cover (mesh node) | [`cover::pattern`] |
+//! | $\mathbf d_i$ | displacement of physical cover $i$ (3 DOFs, constant cover function) | [`cover::PhysicalCover`] |
+//! | ME | manifold element = connected part of (sub-cell ∩ block) | [`cover::ManifoldElement`] |
+//! | $\mathbf K_e, \mathbf M_e$ | element stiffness and consistent mass | [`element`] |
+//! | $(\mathbf K + \mathbf M/(\beta\Delta t^2))\,\mathbf d = \dots$ | implicit step | [`time`] |
+//!
+//! Layers (each only uses those above it): `scenario` → `model` → `cover` → `element` →
+//! `assembly`, `solver` → `time` → `output` → `simulation`.
+#![warn(missing_docs)]
+
+pub mod assembly;
+pub mod cover;
+pub mod element;
+pub mod error;
+pub mod model;
+pub mod monitor;
+pub mod output;
+pub mod scenario;
+pub mod simulation;
+pub mod solver;
+pub mod state;
+pub mod system;
+pub mod time;
+
+pub use error::{Error, Result};

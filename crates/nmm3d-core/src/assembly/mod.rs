@@ -1,0 +1,9 @@
+//! Global assembly: equation numbering, sparsity pattern, scatter.
+
+pub mod assembler;
+pub mod dof_map;
+pub mod sparsity;
+
+pub use assembler::Assembler;
+pub use dof_map::DofMap;
+pub use sparsity::SparsityPattern;

@@ -1,0 +1,236 @@
+//! Building manifold elements and physical covers for every block.
+//!
+//! For each convex piece of a block, every cell of the mathematical mesh that its bounding box
+//! touches is visited. A cell whose eight corners lie strictly inside the piece contributes its
+//! sub-cells whole; otherwise the piece is clipped by each sub-cell's planes. Physical covers
+//! are the classes of (ME, node) incidences merged across ME faces of positive area that both
+//! MEs share (the face lies in the star of each of its nodes).
+
+use std::collections::HashMap;
+
+use nmm3d_geom::{integrate, ConvexPolyhedron, FaceTag, Vec3};
+
+use super::manifold_element::ManifoldElement;
+use super::mesh::{MathMesh, NodeKey};
+use super::pattern::{parity, PatternTable, CELL_TAG};
+use super::physical_cover::{PhysicalCover, UnionFind};
+use super::poly::{self, TERMS};
+use crate::model::{Block, Geometry};
+
+/// The cover system of a model.
+#[derive(Debug, Clone)]
+pub struct Covers {
+    /// The mathematical mesh.
+    pub mesh: MathMesh,
+    /// The pattern's sub-cells.
+    pub pattern: PatternTable,
+    /// Manifold elements, ordered by block, then cell, then sub-cell.
+    pub elements: Vec<ManifoldElement>,
+    /// Physical covers, numbered by first appearance in `elements`.
+    pub covers: Vec<PhysicalCover>,
+}
+
+/// Relative tolerance of the "cell strictly inside the piece" test (× piece diagonal).
+const FULL_CELL_TOLERANCE: f64 = 1e-10;
+
+impl Covers {
+    /// Build MEs and physical covers of every block.
+    pub fn build(geometry: &Geometry, mesh: MathMesh, pattern: PatternTable) -> Self {
+        let full_moments = full_subcell_moments(&pattern);
+        let mut elements = Vec::new();
+        for (b, block) in geometry.blocks.iter().enumerate() {
+            elements.extend(block_elements(b, block, &mesh, &pattern, &full_moments));
+        }
+        let (elements, covers) = number_covers(elements, &mesh, &pattern);
+        Self { mesh, pattern, elements, covers }
+    }
+
+    /// Reference position of every ME vertex, in global coordinates.
+    pub fn global_polyhedron(&self, e: &ManifoldElement) -> ConvexPolyhedron {
+        let c = cell_corner(e.cell);
+        e.local.map(|x| self.mesh.to_global(&(x + c)))
+    }
+
+    /// Weight functions of an ME's nodes.
+    pub fn weights(&self, e: &ManifoldElement) -> &[poly::Poly] {
+        &self.pattern.of_cell(e.cell)[e.subcell].weights
+    }
+
+    /// Cell-local coordinates of a global reference point in the ME's cell.
+    pub fn cell_local(&self, e: &ManifoldElement, x: &Vec3) -> Vec3 {
+        self.mesh.to_local(x) - cell_corner(e.cell)
+    }
+
+    /// The ME containing a reference point of block `block` (`None` if outside).
+    pub fn locate(&self, block: usize, x: &Vec3, tol: f64) -> Option<usize> {
+        let local = self.mesh.to_local(x);
+        let t = tol / self.mesh.size;
+        self.elements
+            .iter()
+            .position(|e| e.block == block && e.local.contains(&(local - cell_corner(e.cell)), t))
+    }
+}
+
+/// Mesh-local coordinates of a cell's corner.
+pub fn cell_corner(cell: [i32; 3]) -> Vec3 {
+    Vec3::new(cell[0] as f64, cell[1] as f64, cell[2] as f64)
+}
+
+/// The moment exponents a pattern needs: total degree ≤ 2 for linear weights, all 27 for hex8.
+fn needed(pattern: &PatternTable) -> Vec<usize> {
+    let mask = poly::degree_two_mask();
+    (0..TERMS).filter(|&k| !pattern.is_linear() || mask[k]).collect()
+}
+
+/// Moments over `p` for the needed exponents, NaN elsewhere.
+pub fn moments(p: &ConvexPolyhedron, pattern: &PatternTable) -> [f64; TERMS] {
+    let idx = needed(pattern);
+    let exps: Vec<_> = idx.iter().map(|&k| poly::exponent(k)).collect();
+    let vals = integrate::polyhedron_moments(p, &exps);
+    let mut m = [f64::NAN; TERMS];
+    for (k, v) in idx.into_iter().zip(vals) {
+        m[k] = v;
+    }
+    m
+}
+
+fn full_subcell_moments(pattern: &PatternTable) -> [Vec<[f64; TERMS]>; 2] {
+    let side = |k: usize| pattern.subcells[k].iter().map(|s| moments(&s.shape, pattern)).collect();
+    [side(0), side(1)]
+}
+
+fn block_elements(
+    b: usize,
+    block: &Block,
+    mesh: &MathMesh,
+    pattern: &PatternTable,
+    full_moments: &[Vec<[f64; TERMS]>; 2],
+) -> Vec<ManifoldElement> {
+    let s3 = mesh.size.powi(3);
+    let mut out = Vec::new();
+    for piece in &block.pieces {
+        let local = piece.map(|x| mesh.to_local(x));
+        let planes = local.face_planes();
+        let bb = local.aabb();
+        let eps = FULL_CELL_TOLERANCE * bb.diagonal();
+        let (lo, hi) = (mesh.cell_of(&bb.min), mesh.cell_of(&bb.max));
+        for k in lo[2]..=hi[2] {
+            for j in lo[1]..=hi[1] {
+                for i in lo[0]..=hi[0] {
+                    let cell = [i, j, k];
+                    let c = cell_corner(cell);
+                    let full = (0..8).all(|q| {
+                        let x = c + Vec3::new((q & 1) as f64, ((q >> 1) & 1) as f64, ((q >> 2) & 1) as f64);
+                        planes.iter().all(|p| p.signed_distance(&x) < -eps)
+                    });
+                    for (si, sub) in pattern.of_cell(cell).iter().enumerate() {
+                        let geom = if full {
+                            Some(sub.shape.clone())
+                        } else {
+                            clip_to_subcell(&local, sub, c)
+                        };
+                        let Some(g) = geom else { continue };
+                        let m = if full { full_moments[parity(cell)][si] } else { moments(&g, pattern) };
+                        out.push(ManifoldElement {
+                            block: b,
+                            cell,
+                            subcell: si,
+                            covers: Vec::new(),
+                            volume: m[0] * s3,
+                            local: g,
+                            full,
+                            moments: m,
+                        });
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+/// (piece ∩ sub-cell) in cell-local coordinates.
+fn clip_to_subcell(local_piece: &ConvexPolyhedron, sub: &super::pattern::SubCell, c: Vec3) -> Option<ConvexPolyhedron> {
+    let mut g = local_piece.clone();
+    for (k, p) in sub.planes.iter().enumerate() {
+        let shifted = nmm3d_geom::Plane { normal: p.normal, offset: p.offset + p.normal.dot(&c) };
+        g = g.clip(&shifted, FaceTag(CELL_TAG + k as u32))?;
+    }
+    Some(g.map(|x| x - c))
+}
+
+type FaceKey = (usize, [NodeKey; 4]);
+
+fn number_covers(
+    mut elements: Vec<ManifoldElement>,
+    mesh: &MathMesh,
+    pattern: &PatternTable,
+) -> (Vec<ManifoldElement>, Vec<PhysicalCover>) {
+    // Incidence (e, slot) ↦ flat index.
+    let mut offset = Vec::with_capacity(elements.len() + 1);
+    let mut total = 0;
+    for e in &elements {
+        offset.push(total);
+        total += pattern.of_cell(e.cell)[e.subcell].nodes.len();
+    }
+    let mut uf = UnionFind::new(total);
+    let mut faces: HashMap<FaceKey, (usize, usize)> = HashMap::new();
+    for (ei, e) in elements.iter().enumerate() {
+        let sub = &pattern.of_cell(e.cell)[e.subcell];
+        for f in e.local.faces.iter().filter(|f| f.tag.0 >= CELL_TAG) {
+            let plane = (f.tag.0 - CELL_TAG) as usize;
+            let key = face_key(e, sub, plane);
+            if let Some((other, other_plane)) = faces.insert(key, (ei, plane)) {
+                merge_across(&mut uf, &offset, &elements, pattern, (other, other_plane), (ei, plane));
+            }
+        }
+    }
+    let mut class_to_cover: HashMap<usize, usize> = HashMap::new();
+    let mut covers = Vec::new();
+    for (ei, e) in elements.iter_mut().enumerate() {
+        let sub = &pattern.of_cell(e.cell)[e.subcell];
+        e.covers = (0..sub.nodes.len())
+            .map(|slot| {
+                let root = uf.find(offset[ei] + slot);
+                *class_to_cover.entry(root).or_insert_with(|| {
+                    let node = node_key(e.cell, sub.nodes[slot]);
+                    covers.push(PhysicalCover { block: e.block, node, position: mesh.node_position(node) });
+                    covers.len() - 1
+                })
+            })
+            .collect();
+    }
+    (elements, covers)
+}
+
+fn node_key(cell: [i32; 3], offset: [i32; 3]) -> NodeKey {
+    [2 * cell[0] + offset[0], 2 * cell[1] + offset[1], 2 * cell[2] + offset[2]]
+}
+
+fn face_key(e: &ManifoldElement, sub: &super::pattern::SubCell, plane: usize) -> FaceKey {
+    let mut keys = [[i32::MAX; 3]; 4];
+    for (slot, &n) in sub.plane_nodes[plane].iter().enumerate() {
+        keys[slot] = node_key(e.cell, sub.nodes[n]);
+    }
+    keys.sort();
+    (e.block, keys)
+}
+
+/// Join the incidences of the shared face's nodes in two MEs.
+fn merge_across(
+    uf: &mut UnionFind,
+    offset: &[usize],
+    elements: &[ManifoldElement],
+    pattern: &PatternTable,
+    (a, pa): (usize, usize),
+    (b, pb): (usize, usize),
+) {
+    let (ea, eb) = (&elements[a], &elements[b]);
+    let (sa, sb) = (&pattern.of_cell(ea.cell)[ea.subcell], &pattern.of_cell(eb.cell)[eb.subcell]);
+    for &na in &sa.plane_nodes[pa] {
+        let key = node_key(ea.cell, sa.nodes[na]);
+        if let Some(&nb) = sb.plane_nodes[pb].iter().find(|&&nb| node_key(eb.cell, sb.nodes[nb]) == key) {
+            uf.union(offset[a] + na, offset[b] + nb);
+        }
+    }
+}

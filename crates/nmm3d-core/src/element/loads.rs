@@ -1,0 +1,89 @@
+//! Loads on the covers: body force, initial (in-situ) stress, point loads and surface tractions.
+//! All are dead loads evaluated in the reference configuration; initial stress co-rotates with
+//! each ME (see `time::corotation`).
+
+use nmm3d_geom::{integrate, Vec3};
+
+use super::kernel::stress_matrix;
+use crate::cover::build::cell_corner;
+use crate::cover::pattern::CELL_TAG;
+use crate::cover::poly::{self, Poly, TERMS};
+use crate::cover::{Covers, ManifoldElement};
+use crate::scenario::{InSituStress, Region};
+
+/// In-situ stress at height z: σ(z) = σ_ref + (z − z_ref) · gradient, compression negative.
+pub fn in_situ_at(s: &InSituStress, z: f64) -> [f64; 6] {
+    let mut out = s.stress;
+    for (o, g) in out.iter_mut().zip(s.gradient.iter()) {
+        *o += (z - s.reference_z) * g;
+    }
+    out
+}
+
+/// Volume centroid of an ME [m].
+pub fn element_centroid(covers: &Covers, e: &ManifoldElement) -> Vec3 {
+    let m = &e.moments;
+    let local = Vec3::new(m[1], m[3], m[9]) / m[0];
+    covers.mesh.to_global(&(cell_corner(e.cell) + local))
+}
+
+/// Initial-stress nodal forces f_a = ∫ σ₀(z) ∇w_a dV (the internal force of the initial
+/// stress, thesis §3.3 "initial stress matrix") and the ME's mean initial stress.
+pub fn initial_stress(covers: &Covers, e: &ManifoldElement, s: &InSituStress) -> (Vec<Vec3>, [f64; 6]) {
+    let mesh = &covers.mesh;
+    let (sz, r) = (mesh.size, mesh.rotation);
+    let z_corner = mesh.to_global(&cell_corner(e.cell)).z;
+    let rz = r.row(2).transpose() * sz; // z(ξ) = z_corner + rz·ξ
+    let base = stress_matrix(&s.stress);
+    let grad = stress_matrix(&s.gradient);
+    let dz = Poly::affine(z_corner - s.reference_z, rz);
+    let forces = covers
+        .weights(e)
+        .iter()
+        .map(|w| {
+            let d = [w.derivative(0), w.derivative(1), w.derivative(2)];
+            let h = Vec3::new(d[0].integrate(&e.moments), d[1].integrate(&e.moments), d[2].integrate(&e.moments));
+            let q = Vec3::new(
+                dz.mul(&d[0]).integrate(&e.moments),
+                dz.mul(&d[1]).integrate(&e.moments),
+                dz.mul(&d[2]).integrate(&e.moments),
+            );
+            // ∫ ∂_i w dV = s² (R h)_i; ∫ (z − z_ref) ∂_i w dV = s² (R q)_i.
+            base * (sz * sz * (r * h)) + grad * (sz * sz * (r * q))
+        })
+        .collect();
+    (forces, in_situ_at(s, element_centroid(covers, e).z))
+}
+
+/// Weight-function values of an ME's nodes at a global reference point.
+pub fn weights_at(covers: &Covers, e: &ManifoldElement, x: &Vec3) -> Vec<f64> {
+    let xi = covers.cell_local(e, x);
+    covers.weights(e).iter().map(|w| w.eval(&xi)).collect()
+}
+
+/// ∫_F w_a dA over the ME's boundary faces whose centroid lies in `region`, per node [m²].
+pub fn boundary_face_integrals(covers: &Covers, e: &ManifoldElement, region: &Region) -> Option<Vec<f64>> {
+    let Region::Box { min, max } = region;
+    let bb = nmm3d_geom::Aabb { min: Vec3::from(*min), max: Vec3::from(*max) };
+    let s2 = covers.mesh.size * covers.mesh.size;
+    let exps: Vec<_> = (0..TERMS).map(poly::exponent).filter(|e| e.iter().all(|&k| k <= 1)).collect();
+    let mut total: Option<Vec<f64>> = None;
+    for f in e.local.faces.iter().filter(|f| f.tag.0 < CELL_TAG) {
+        let centroid = nmm3d_geom::polygon::centroid(&f.vertices);
+        let global = covers.mesh.to_global(&(cell_corner(e.cell) + centroid));
+        if !bb.contains(&global, 1e-9 * covers.mesh.size) {
+            continue;
+        }
+        let vals = integrate::polygon_moments(&f.vertices, &exps);
+        let mut m = [f64::NAN; TERMS];
+        for (ex, v) in exps.iter().zip(vals) {
+            m[ex[0] as usize + 3 * ex[1] as usize + 9 * ex[2] as usize] = v;
+        }
+        let per_node: Vec<f64> = covers.weights(e).iter().map(|w| w.integrate(&m) * s2).collect();
+        total = Some(match total {
+            None => per_node,
+            Some(t) => t.iter().zip(per_node).map(|(a, b)| a + b).collect(),
+        });
+    }
+    total
+}

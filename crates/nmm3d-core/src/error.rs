@@ -1,0 +1,83 @@
+//! Typed errors of the method crate. `exit_code` is the single mapping to CLI exit codes;
+//! the bindings map the same variants to Python exceptions in one place.
+
+use std::path::PathBuf;
+
+/// One problem in the input: where and why.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Problem {
+    /// Key path, e.g. `material.rock.poisson` or `body[2].shape.box.max`.
+    pub path: String,
+    /// What is wrong.
+    pub reason: String,
+}
+
+/// Everything that can stop nmm3d.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// Invalid input: every problem found, with its key path.
+    #[error("{}", format_problems(file, problems))]
+    Scenario {
+        /// The scenario file (or "<dict>" from Python).
+        file: String,
+        /// Problems found.
+        problems: Vec<Problem>,
+    },
+    /// The linear system could not be factorised.
+    #[error("linear solver failed at step {step}: {reason}")]
+    Solver {
+        /// Step number.
+        step: u64,
+        /// Solver message.
+        reason: String,
+    },
+    /// The run diverged (NaN, runaway displacement, no acceptable step).
+    #[error("run diverged at step {step} (t = {time:.6} s): {reason}")]
+    Diverged {
+        /// Step number.
+        step: u64,
+        /// Simulated time [s].
+        time: f64,
+        /// What was detected.
+        reason: String,
+    },
+    /// A file could not be written or read.
+    #[error("cannot access {}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The OS error.
+        source: std::io::Error,
+    },
+}
+
+fn format_problems(file: &str, problems: &[Problem]) -> String {
+    let lines: Vec<String> = problems.iter().map(|p| format!("{file}: {}: {}", p.path, p.reason)).collect();
+    lines.join("\n")
+}
+
+impl Error {
+    /// A single input problem.
+    pub fn input(file: &str, path: impl Into<String>, reason: impl Into<String>) -> Self {
+        Error::Scenario {
+            file: file.to_string(),
+            problems: vec![Problem { path: path.into(), reason: reason.into() }],
+        }
+    }
+
+    /// CLI exit status: 2 invalid input, 1 the run failed.
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            Error::Scenario { .. } => 2,
+            _ => 1,
+        }
+    }
+
+    /// Wrap an I/O error with the file it concerns.
+    pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+        Error::Io { path: path.into(), source }
+    }
+}
+
+/// Result alias.
+pub type Result<T> = std::result::Result<T, Error>;

@@ -1,0 +1,5 @@
+//! Result writers: `summary.json`, `history.csv`, `blocks.csv`, `result.pvd` + `frames/*.vtu`.
+
+pub mod atomic;
+pub mod tables;
+pub mod vtu;

@@ -1,0 +1,57 @@
+//! CSV tables: `blocks.csv` (one row per block) and `history.csv` (one row per recorded step).
+//! Numbers use Rust's shortest round-trip formatting, so values read back bit for bit.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use super::atomic;
+use crate::error::Result;
+use crate::system::System;
+
+/// Write `blocks.csv`: id, body, volume, centroid, fixed.
+pub fn write_blocks(sys: &System, dir: &Path) -> Result<()> {
+    let mut s = String::from("id,body,volume,centroid_x,centroid_y,centroid_z,fixed\n");
+    for (i, b) in sys.geometry.blocks.iter().enumerate() {
+        let body = &sys.scenario.body[b.body].name;
+        let _ = writeln!(s, "{i},{},{},{},{},{},{}", csv_text(body), b.volume, b.centroid.x, b.centroid.y, b.centroid.z, b.fixed);
+    }
+    atomic::write(&dir.join("blocks.csv"), s.as_bytes())
+}
+
+fn csv_text(t: &str) -> String {
+    if t.contains([',', '"', '\n']) { format!("\"{}\"", t.replace('"', "\"\"")) } else { t.to_string() }
+}
+
+/// The monitored history, kept in memory and written atomically.
+#[derive(Debug, Clone)]
+pub struct History {
+    /// Column names after `time` and `step`.
+    pub columns: Vec<String>,
+    /// Rows: time, step, values.
+    pub rows: Vec<(f64, u64, Vec<f64>)>,
+}
+
+impl History {
+    /// Empty history with the given monitor columns.
+    pub fn new(columns: Vec<String>) -> Self {
+        Self { columns, rows: Vec::new() }
+    }
+
+    /// Write `history.csv`.
+    pub fn write(&self, dir: &Path) -> Result<()> {
+        let mut s = String::from("time,step");
+        for c in &self.columns {
+            s.push(',');
+            s.push_str(c);
+        }
+        s.push('\n');
+        for (t, step, vals) in &self.rows {
+            let _ = write!(s, "{t},{step}");
+            for v in vals {
+                let _ = write!(s, ",{v}");
+            }
+            s.push('\n');
+        }
+        atomic::write(&dir.join("history.csv"), s.as_bytes())
+    }
+}

@@ -1,0 +1,127 @@
+//! Scenario v1: parsing (TOML or JSON), `--set` overrides and validation, in one place.
+
+mod overrides;
+pub mod schema;
+mod validate;
+
+use std::path::Path;
+
+pub use schema::*;
+pub use validate::validate;
+
+use crate::error::{Error, Result};
+
+/// Read, override and validate a scenario file.
+pub fn load_file(path: &Path, overrides: &[String]) -> Result<Scenario> {
+    let label = path.display().to_string();
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| Error::input(&label, "<file>", format!("cannot read the file: {e}")))?;
+    from_toml_str(&text, &label, overrides)
+}
+
+/// Parse TOML text (`label` names the source in messages), apply overrides, validate.
+pub fn from_toml_str(text: &str, label: &str, overrides: &[String]) -> Result<Scenario> {
+    let mut value: toml::Value = toml::from_str::<toml::Table>(text)
+        .map(toml::Value::Table)
+        .map_err(|e| Error::input(label, "<toml>", e.message().to_string() + &location(text, e.span())))?;
+    for o in overrides {
+        overrides::apply(&mut value, o).map_err(|(path, reason)| Error::input(label, path, reason))?;
+    }
+    let scenario: Scenario = serde_path_to_error::deserialize(value).map_err(|e| {
+        Error::input(label, e.path().to_string(), e.inner().message().to_string())
+    })?;
+    validate(&scenario, label)?;
+    Ok(scenario)
+}
+
+/// Parse a JSON document (from Python dictionaries), apply overrides, validate.
+pub fn from_json_str(text: &str, label: &str, overrides: &[String]) -> Result<Scenario> {
+    let json: serde_json::Value =
+        serde_json::from_str(text).map_err(|e| Error::input(label, "<json>", e.to_string()))?;
+    let toml_text = toml::to_string(&json).map_err(|e| Error::input(label, "<dict>", e.to_string()))?;
+    from_toml_str(&toml_text, label, overrides)
+}
+
+fn location(text: &str, span: Option<std::ops::Range<usize>>) -> String {
+    match span {
+        Some(r) => {
+            let line = text[..r.start.min(text.len())].matches('\n').count() + 1;
+            format!(" (line {line})")
+        }
+        None => String::new(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::error::Problem;
+
+    const MINIMAL: &str = r#"
+[[material]]
+name = "rock"
+density = 2500.0
+young = 1e9
+poisson = 0.25
+
+[[body]]
+name = "cube"
+material = "rock"
+shape = { box = { min = [0, 0, 0], max = [1, 1, 1] } }
+"#;
+
+    fn problems(text: &str, o: &[&str]) -> Vec<Problem> {
+        let o: Vec<String> = o.iter().map(|s| s.to_string()).collect();
+        match from_toml_str(text, "t.toml", &o) {
+            Err(Error::Scenario { problems, .. }) => problems,
+            other => panic!("expected an input error, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn minimal_scenario_parses_with_defaults() {
+        let s = from_toml_str(MINIMAL, "t.toml", &[]).unwrap();
+        assert_eq!(s.analysis.dt, 0.001);
+        assert_eq!(s.cover.pattern, PatternKind::Tet6);
+    }
+
+    #[test]
+    fn unknown_keys_are_named_with_their_path() {
+        let p = problems(&(MINIMAL.to_string() + "[analysis]\nbogus = 1\n"), &[]);
+        assert_eq!(p[0].path, "analysis.bogus");
+        assert!(p[0].reason.contains("bogus"), "{}", p[0].reason);
+    }
+
+    #[test]
+    fn overrides_address_named_entries() {
+        let s = from_toml_str(MINIMAL, "t.toml", &["material.rock.young=2e9".into(), "analysis.duration=2".into()])
+            .unwrap();
+        assert_eq!(s.material[0].young, 2e9);
+        assert_eq!(s.analysis.duration, 2.0);
+        let p = problems(MINIMAL, &["material.granite.young=1"]);
+        assert!(p[0].reason.contains("granite"));
+    }
+
+    #[test]
+    fn bad_values_are_reported_together() {
+        let p = problems(MINIMAL, &["material.rock.poisson=0.5", "material.rock.density=0", "cover.size=-1"]);
+        let paths: Vec<&str> = p.iter().map(|x| x.path.as_str()).collect();
+        assert!(paths.contains(&"material.rock.poisson"), "{paths:?}");
+        assert!(paths.contains(&"material.rock.density"));
+        assert!(paths.contains(&"cover.size"));
+    }
+
+    #[test]
+    fn wrong_types_and_unknown_names() {
+        let p = problems(MINIMAL, &["analysis.dt=\"fast\""]);
+        assert_eq!(p[0].path, "analysis.dt");
+        let p = problems(&MINIMAL.replace("material = \"rock\"", "material = \"granite\""), &[]);
+        assert_eq!(p[0].path, "body.cube.material");
+    }
+
+    #[test]
+    fn malformed_toml_reports_the_line() {
+        let p = problems("[analysis\n", &[]);
+        assert!(p[0].reason.contains("line 1"), "{}", p[0].reason);
+    }
+}

@@ -1,0 +1,557 @@
+//! The scenario file, version 1 (`docs/scenario.md`): typed, with defaults and units.
+//! Unknown keys are rejected. Semantic checks live in `validate.rs`.
+
+use serde::{Deserialize, Serialize};
+
+/// A whole scenario.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scenario {
+    /// Name and description.
+    #[serde(default)]
+    pub scenario: Meta,
+    /// Analysis controls.
+    #[serde(default)]
+    pub analysis: Analysis,
+    /// The mathematical cover.
+    #[serde(default)]
+    pub cover: CoverSpec,
+    /// Contact penalties.
+    #[serde(default)]
+    pub contact: ContactSpec,
+    /// Materials (unique names).
+    #[serde(default)]
+    pub material: Vec<Material>,
+    /// Joint strengths (unique names).
+    #[serde(default)]
+    pub joint: Vec<Joint>,
+    /// Bodies (unique names).
+    #[serde(default)]
+    pub body: Vec<Body>,
+    /// Joint sets (cutting).
+    #[serde(default)]
+    pub joint_set: Vec<JointSet>,
+    /// Single joints (cutting).
+    #[serde(default)]
+    pub joint_plane: Vec<JointPlane>,
+    /// Excavations.
+    #[serde(default)]
+    pub excavation: Vec<Excavation>,
+    /// Joint between two bodies.
+    #[serde(default)]
+    pub interface: Vec<Interface>,
+    /// Penalty constraints on boundary vertices in a region.
+    #[serde(default)]
+    pub constraint: Vec<Constraint>,
+    /// Penalty constraints at points.
+    #[serde(default)]
+    pub fixed_point: Vec<FixedPoint>,
+    /// Dead point loads.
+    #[serde(default)]
+    pub point_load: Vec<PointLoad>,
+    /// Dead tractions on block boundary faces in a region (addition to v1).
+    #[serde(default)]
+    pub surface_load: Vec<SurfaceLoad>,
+    /// Initial stress.
+    #[serde(default)]
+    pub in_situ_stress: Option<InSituStress>,
+    /// Monitored quantities.
+    #[serde(default)]
+    pub monitor: Vec<Monitor>,
+}
+
+/// `[scenario]`.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Meta {
+    /// Short name.
+    #[serde(default)]
+    pub name: String,
+    /// Free text.
+    #[serde(default)]
+    pub description: String,
+}
+
+/// Dynamic or static analysis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum AnalysisKind {
+    /// Inertia kept; velocities carried between steps.
+    #[default]
+    Dynamic,
+    /// Velocities reset every step; runs to equilibrium.
+    Static,
+}
+
+/// Time integration scheme.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Integrator {
+    /// DDA scheme: Newmark β = ½, γ = 1 (first order, dissipative, exact for constant acceleration).
+    #[default]
+    Dda,
+    /// Newmark with `newmark_beta`, `newmark_gamma` (default ¼, ½: trapezoidal, no numerical damping).
+    Newmark,
+}
+
+/// `[analysis]`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Analysis {
+    /// "dynamic" | "static".
+    pub kind: AnalysisKind,
+    /// Simulated time to reach [s].
+    pub duration: f64,
+    /// Hard cap on accepted steps.
+    pub max_steps: u64,
+    /// Maximum (and initial) time step [s].
+    pub dt: f64,
+    /// Largest step displacement / half the model size (DDA g2) [-].
+    pub max_displacement_ratio: f64,
+    /// Gravity [m/s²].
+    pub gravity: [f64; 3],
+    /// Simulated time between saved frames [s]; 0 = only first and last.
+    pub output_interval: f64,
+    /// Simulated time between history rows [s]; absent = every accepted step.
+    pub history_interval: Option<f64>,
+    /// Time integration scheme.
+    pub integrator: Integrator,
+    /// Newmark β (only with `integrator = "newmark"`).
+    pub newmark_beta: f64,
+    /// Newmark γ (only with `integrator = "newmark"`).
+    pub newmark_gamma: f64,
+    /// Static runs stop when the unbalanced force ≤ this × the largest applied force [-].
+    pub equilibrium_tolerance: f64,
+    /// Penalty stiffness of constraints and fixed points [N/m], or "auto".
+    pub penalty_stiffness: Stiffness,
+    /// "auto" penalty = this factor × largest Young's modulus × cover size [-].
+    pub penalty_factor: f64,
+    /// Smallest time step allowed by step cuts, as a fraction of `dt` [-].
+    pub min_dt_ratio: f64,
+    /// Largest growth of the time step between accepted steps [-].
+    pub max_dt_growth: f64,
+    /// Step displacement ratio aimed at when the step is resized [-].
+    pub target_displacement_ratio: f64,
+    /// A run whose displacement ratio exceeds this after the smallest step is diverging [-].
+    pub divergence_ratio: f64,
+}
+
+impl Default for Analysis {
+    fn default() -> Self {
+        Self {
+            kind: AnalysisKind::Dynamic,
+            duration: 1.0,
+            max_steps: 200_000,
+            dt: 0.001,
+            max_displacement_ratio: 0.001,
+            gravity: [0.0, 0.0, -9.81],
+            output_interval: 0.05,
+            history_interval: None,
+            integrator: Integrator::Dda,
+            newmark_beta: 0.25,
+            newmark_gamma: 0.5,
+            equilibrium_tolerance: 1e-7,
+            penalty_stiffness: Stiffness::Auto,
+            penalty_factor: 1e4,
+            min_dt_ratio: 1e-4,
+            max_dt_growth: 1.2,
+            target_displacement_ratio: 0.8,
+            divergence_ratio: 1e3,
+        }
+    }
+}
+
+/// A stiffness [N/m] or "auto".
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Stiffness {
+    /// Chosen from the model (documented per key).
+    #[default]
+    Auto,
+    /// Given value [N/m].
+    Value(f64),
+}
+
+impl Serialize for Stiffness {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            Stiffness::Auto => s.serialize_str("auto"),
+            Stiffness::Value(v) => s.serialize_f64(*v),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Stiffness {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        #[derive(Deserialize)]
+        #[serde(untagged)]
+        enum Raw {
+            Num(f64),
+            Int(i64),
+            Text(String),
+        }
+        match Raw::deserialize(d)? {
+            Raw::Num(v) => Ok(Stiffness::Value(v)),
+            Raw::Int(v) => Ok(Stiffness::Value(v as f64)),
+            Raw::Text(t) if t == "auto" => Ok(Stiffness::Auto),
+            Raw::Text(t) => Err(serde::de::Error::custom(format!("expected a number or \"auto\", found \"{t}\""))),
+        }
+    }
+}
+
+/// Decomposition of the cubic cells of the mathematical mesh.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum PatternKind {
+    /// Five tetrahedra, mirrored plans alternating (conforming).
+    Tet5,
+    /// Six tetrahedra around the main diagonal (Kuhn / Freudenthal).
+    #[default]
+    Tet6,
+    /// 24 tetrahedra from face and body centres.
+    Tet24,
+    /// One trilinear hexahedron.
+    Hex8,
+}
+
+/// `[cover]`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct CoverSpec {
+    /// Pattern.
+    pub pattern: PatternKind,
+    /// Edge of the cubic cells [m]; absent = a tenth of the smallest model extent.
+    pub size: Option<f64>,
+    /// A mesh node [m].
+    pub origin: [f64; 3],
+    /// Rotation of the mesh about x, then y, then z [deg].
+    pub rotation: [f64; 3],
+}
+
+impl Default for CoverSpec {
+    fn default() -> Self {
+        Self { pattern: PatternKind::Tet6, size: None, origin: [0.0; 3], rotation: [0.0; 3] }
+    }
+}
+
+/// `[contact]`.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ContactSpec {
+    /// Normal penalty [N/m] or "auto".
+    pub normal_stiffness: Stiffness,
+    /// Shear penalty [N/m] or "auto".
+    pub shear_stiffness: Stiffness,
+}
+
+/// `[[material]]`: isotropic linear elasticity.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Material {
+    /// Unique name.
+    pub name: String,
+    /// Density [kg/m³].
+    pub density: f64,
+    /// Young's modulus [Pa].
+    pub young: f64,
+    /// Poisson's ratio [-].
+    pub poisson: f64,
+}
+
+/// `[[joint]]`: Coulomb strength.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Joint {
+    /// Unique name.
+    pub name: String,
+    /// Friction angle [deg].
+    #[serde(default)]
+    pub friction_angle: f64,
+    /// Cohesion [Pa].
+    #[serde(default)]
+    pub cohesion: f64,
+    /// Tensile strength [Pa].
+    #[serde(default)]
+    pub tensile_strength: f64,
+}
+
+/// `[[body]]`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Body {
+    /// Unique name.
+    pub name: String,
+    /// Material name.
+    pub material: String,
+    /// Joint name (cuts inside, contacts).
+    #[serde(default)]
+    pub joint: Option<String>,
+    /// Every block of this body is fixed.
+    #[serde(default)]
+    pub fixed: bool,
+    /// Initial velocity [m/s].
+    #[serde(default)]
+    pub velocity: [f64; 3],
+    /// Initial angular velocity about the body's centroid [rad/s] (addition to v1).
+    #[serde(default)]
+    pub angular_velocity: [f64; 3],
+    /// Shape.
+    pub shape: Shape,
+}
+
+/// A solid shape (a table with one key).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase", deny_unknown_fields)]
+pub enum Shape {
+    /// Axis-aligned box.
+    Box {
+        /// Lower corner [m].
+        min: [f64; 3],
+        /// Upper corner [m].
+        max: [f64; 3],
+    },
+    /// Intersection of half-spaces n·x ≤ d.
+    Convex {
+        /// Rows `[nx, ny, nz, d]`.
+        planes: Vec<[f64; 4]>,
+    },
+    /// Closed polyhedron, faces counter-clockwise seen from outside.
+    Polyhedron {
+        /// Vertices [m].
+        vertices: Vec<[f64; 3]>,
+        /// Faces as vertex indices.
+        faces: Vec<Vec<usize>>,
+    },
+    /// Vertical extrusion of a simple polygon.
+    Prism {
+        /// Polygon `[x, y]` [m].
+        polygon: Vec<[f64; 2]>,
+        /// `[z0, z1]` [m].
+        z: [f64; 2],
+    },
+    /// Tunnel (excavations only).
+    Tunnel(Tunnel),
+}
+
+/// Tunnel profile swept along an axis.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Tunnel {
+    /// "horseshoe" | "circular" | "rectangular".
+    pub profile: String,
+    /// Width [m].
+    #[serde(default)]
+    pub width: Option<f64>,
+    /// Height [m].
+    #[serde(default)]
+    pub height: Option<f64>,
+    /// Radius [m] (circular).
+    #[serde(default)]
+    pub radius: Option<f64>,
+    /// Axis start [m].
+    pub start: [f64; 3],
+    /// Axis end [m].
+    pub end: [f64; 3],
+    /// Straight pieces approximating a curve.
+    #[serde(default)]
+    pub segments: Option<u32>,
+}
+
+/// `[[joint_set]]`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointSet {
+    /// Bodies cut (default: all non-fixed).
+    #[serde(default)]
+    pub bodies: Option<Vec<String>>,
+    /// Dip [deg].
+    pub dip: f64,
+    /// Dip direction [deg].
+    pub dip_direction: f64,
+    /// Spacing [m].
+    pub spacing: f64,
+    /// A point on one plane [m].
+    #[serde(default)]
+    pub origin: [f64; 3],
+    /// Joint name.
+    #[serde(default)]
+    pub joint: Option<String>,
+}
+
+/// `[[joint_plane]]`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointPlane {
+    /// Bodies cut.
+    #[serde(default)]
+    pub bodies: Option<Vec<String>>,
+    /// A point on the plane [m].
+    pub point: [f64; 3],
+    /// Dip [deg].
+    #[serde(default)]
+    pub dip: Option<f64>,
+    /// Dip direction [deg].
+    #[serde(default)]
+    pub dip_direction: Option<f64>,
+    /// Normal (instead of dip / dip direction).
+    #[serde(default)]
+    pub normal: Option<[f64; 3]>,
+    /// Joint name.
+    #[serde(default)]
+    pub joint: Option<String>,
+}
+
+/// `[[excavation]]`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Excavation {
+    /// Shape removed.
+    pub shape: Shape,
+}
+
+/// `[[interface]]`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Interface {
+    /// Two body names.
+    pub bodies: [String; 2],
+    /// Joint name.
+    pub joint: String,
+}
+
+/// A region of space.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase", deny_unknown_fields)]
+pub enum Region {
+    /// Axis-aligned box.
+    Box {
+        /// Lower corner [m].
+        min: [f64; 3],
+        /// Upper corner [m].
+        max: [f64; 3],
+    },
+}
+
+/// Axis names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Axis {
+    /// East.
+    X,
+    /// North.
+    Y,
+    /// Up.
+    Z,
+}
+
+/// `[[constraint]]`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Constraint {
+    /// Region whose boundary vertices are held.
+    pub select: Region,
+    /// Held directions.
+    pub directions: Vec<Axis>,
+}
+
+/// `[[fixed_point]]`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FixedPoint {
+    /// Point [m].
+    pub point: [f64; 3],
+    /// Held directions.
+    pub directions: Vec<Axis>,
+}
+
+/// `[[point_load]]`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PointLoad {
+    /// Point [m].
+    pub point: [f64; 3],
+    /// Force [N].
+    pub force: [f64; 3],
+}
+
+/// `[[surface_load]]`: a dead traction on the block boundary faces inside a region.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SurfaceLoad {
+    /// Region: faces whose centroid lies inside are loaded.
+    pub select: Region,
+    /// Traction [Pa].
+    pub traction: [f64; 3],
+}
+
+/// `[in_situ_stress]`, compression negative.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InSituStress {
+    /// xx, yy, zz, xy, yz, zx [Pa].
+    pub stress: [f64; 6],
+    /// Gradient in z [Pa/m].
+    #[serde(default)]
+    pub gradient: [f64; 6],
+    /// Height where `stress` applies [m].
+    #[serde(default)]
+    pub reference_z: f64,
+}
+
+/// Which block a monitor follows.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase", deny_unknown_fields)]
+pub enum MonitorSelect {
+    /// The block containing this point at t = 0.
+    Point([f64; 3]),
+    /// A body made of a single block.
+    Body(String),
+}
+
+/// Monitored quantities.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Quantity {
+    /// Centroid displacement [m].
+    Displacement,
+    /// Centroid velocity [m/s].
+    Velocity,
+    /// Rotation vector [rad].
+    Rotation,
+    /// Volume [m³].
+    Volume,
+    /// Volume-mean stress [Pa].
+    Stress,
+}
+
+/// `[[monitor]]`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Monitor {
+    /// Unique name.
+    pub name: String,
+    /// The block followed.
+    pub select: MonitorSelect,
+    /// Quantities recorded.
+    pub quantities: Vec<Quantity>,
+}
+
+impl Quantity {
+    /// Name used in column headers.
+    pub fn name(self) -> &'static str {
+        match self {
+            Quantity::Displacement => "displacement",
+            Quantity::Velocity => "velocity",
+            Quantity::Rotation => "rotation",
+            Quantity::Volume => "volume",
+            Quantity::Stress => "stress",
+        }
+    }
+    /// Component names in column headers.
+    pub fn components(self) -> &'static [&'static str] {
+        match self {
+            Quantity::Volume => &["value"],
+            Quantity::Stress => &["xx", "yy", "zz", "xy", "yz", "zx"],
+            _ => &["x", "y", "z"],
+        }
+    }
+}

@@ -1,0 +1,228 @@
+//! Semantic checks of a typed scenario. Every problem is collected, each with its key path
+//! (named entries are addressed by name, as in `--set`).
+
+use std::collections::HashSet;
+
+use super::schema::*;
+use crate::error::{Error, Problem, Result};
+use crate::model::shape::shape_to_convex;
+
+struct Checker {
+    problems: Vec<Problem>,
+}
+
+impl Checker {
+    fn fail(&mut self, path: impl Into<String>, reason: impl Into<String>) {
+        self.problems.push(Problem { path: path.into(), reason: reason.into() });
+    }
+    fn positive(&mut self, path: &str, v: f64) {
+        if !(v > 0.0 && v.is_finite()) {
+            self.fail(path, format!("must be a finite number > 0, got {v}"));
+        }
+    }
+    fn unique<'a>(&mut self, kind: &str, names: impl Iterator<Item = &'a String>) {
+        let mut seen = HashSet::new();
+        for n in names {
+            if n.is_empty() {
+                self.fail(kind, "every entry needs a non-empty name");
+            } else if !seen.insert(n) {
+                self.fail(format!("{kind}.{n}"), "the name is used twice");
+            }
+        }
+    }
+}
+
+/// Check a scenario; all problems are reported together.
+pub fn validate(s: &Scenario, file: &str) -> Result<()> {
+    let mut c = Checker { problems: Vec::new() };
+    analysis(&mut c, &s.analysis);
+    if let Some(size) = s.cover.size {
+        c.positive("cover.size", size);
+    }
+    for (k, v) in [("contact.normal_stiffness", s.contact.normal_stiffness), ("contact.shear_stiffness", s.contact.shear_stiffness)] {
+        if let Stiffness::Value(x) = v {
+            c.positive(k, x);
+        }
+    }
+    materials(&mut c, s);
+    joints(&mut c, s);
+    bodies(&mut c, s);
+    cutting(&mut c, s);
+    loads(&mut c, s);
+    monitors(&mut c, s);
+    if c.problems.is_empty() {
+        Ok(())
+    } else {
+        Err(Error::Scenario { file: file.to_string(), problems: c.problems })
+    }
+}
+
+fn analysis(c: &mut Checker, a: &Analysis) {
+    c.positive("analysis.duration", a.duration);
+    c.positive("analysis.dt", a.dt);
+    c.positive("analysis.max_displacement_ratio", a.max_displacement_ratio);
+    c.positive("analysis.equilibrium_tolerance", a.equilibrium_tolerance);
+    c.positive("analysis.penalty_factor", a.penalty_factor);
+    c.positive("analysis.divergence_ratio", a.divergence_ratio);
+    if a.max_steps == 0 {
+        c.fail("analysis.max_steps", "must be at least 1");
+    }
+    if !(a.output_interval >= 0.0) {
+        c.fail("analysis.output_interval", format!("must be ≥ 0, got {}", a.output_interval));
+    }
+    if let Some(h) = a.history_interval {
+        c.positive("analysis.history_interval", h);
+    }
+    if let Stiffness::Value(v) = a.penalty_stiffness {
+        c.positive("analysis.penalty_stiffness", v);
+    }
+    if !(a.min_dt_ratio > 0.0 && a.min_dt_ratio <= 1.0) {
+        c.fail("analysis.min_dt_ratio", "must be in (0, 1]");
+    }
+    if !(a.max_dt_growth >= 1.0) {
+        c.fail("analysis.max_dt_growth", "must be ≥ 1");
+    }
+    if !(a.target_displacement_ratio > 0.0 && a.target_displacement_ratio <= 1.0) {
+        c.fail("analysis.target_displacement_ratio", "must be in (0, 1]");
+    }
+    if a.integrator == Integrator::Newmark {
+        c.positive("analysis.newmark_beta", a.newmark_beta);
+        if !(a.newmark_gamma >= 0.5) {
+            c.fail("analysis.newmark_gamma", "must be ≥ 0.5 for a stable scheme");
+        }
+    }
+    if a.gravity.iter().any(|g| !g.is_finite()) {
+        c.fail("analysis.gravity", "must be finite");
+    }
+}
+
+fn materials(c: &mut Checker, s: &Scenario) {
+    c.unique("material", s.material.iter().map(|m| &m.name));
+    for m in &s.material {
+        let p = format!("material.{}", m.name);
+        c.positive(&format!("{p}.density"), m.density);
+        c.positive(&format!("{p}.young"), m.young);
+        if !(m.poisson > -1.0 && m.poisson < 0.5) {
+            c.fail(format!("{p}.poisson"), format!("must lie in (-1, 0.5), got {}", m.poisson));
+        }
+    }
+}
+
+fn joints(c: &mut Checker, s: &Scenario) {
+    c.unique("joint", s.joint.iter().map(|j| &j.name));
+    for j in &s.joint {
+        let p = format!("joint.{}", j.name);
+        if !(j.friction_angle >= 0.0 && j.friction_angle < 90.0) {
+            c.fail(format!("{p}.friction_angle"), format!("must lie in [0, 90) degrees, got {}", j.friction_angle));
+        }
+        if !(j.cohesion >= 0.0) {
+            c.fail(format!("{p}.cohesion"), "must be ≥ 0");
+        }
+        if !(j.tensile_strength >= 0.0) {
+            c.fail(format!("{p}.tensile_strength"), "must be ≥ 0");
+        }
+    }
+}
+
+fn has_joint(s: &Scenario, name: &str) -> bool {
+    s.joint.iter().any(|j| j.name == name)
+}
+
+fn bodies(c: &mut Checker, s: &Scenario) {
+    if s.body.is_empty() {
+        c.fail("body", "the scenario needs at least one [[body]]");
+    }
+    c.unique("body", s.body.iter().map(|b| &b.name));
+    for b in &s.body {
+        let p = format!("body.{}", b.name);
+        if !s.material.iter().any(|m| m.name == b.material) {
+            c.fail(format!("{p}.material"), format!("there is no material named '{}'", b.material));
+        }
+        if let Some(j) = &b.joint {
+            if !has_joint(s, j) {
+                c.fail(format!("{p}.joint"), format!("there is no joint named '{j}'"));
+            }
+        }
+        if b.velocity.iter().chain(b.angular_velocity.iter()).any(|v| !v.is_finite()) {
+            c.fail(format!("{p}.velocity"), "must be finite");
+        }
+        if let Err((sub, reason)) = shape_to_convex(&b.shape) {
+            c.fail(format!("{p}.shape{sub}"), reason);
+        }
+    }
+}
+
+fn cutting(c: &mut Checker, s: &Scenario) {
+    let body_known = |n: &String| s.body.iter().any(|b| &b.name == n);
+    for (k, js) in s.joint_set.iter().enumerate() {
+        let p = format!("joint_set[{k}]");
+        if !(0.0..=90.0).contains(&js.dip) {
+            c.fail(format!("{p}.dip"), format!("must lie in [0, 90], got {}", js.dip));
+        }
+        c.positive(&format!("{p}.spacing"), js.spacing);
+        for n in js.bodies.iter().flatten().filter(|n| !body_known(n)) {
+            c.fail(format!("{p}.bodies"), format!("there is no body named '{n}'"));
+        }
+    }
+    for (k, jp) in s.joint_plane.iter().enumerate() {
+        let p = format!("joint_plane[{k}]");
+        if let Some(d) = jp.dip {
+            if !(0.0..=90.0).contains(&d) {
+                c.fail(format!("{p}.dip"), format!("must lie in [0, 90], got {d}"));
+            }
+        }
+    }
+    for (k, i) in s.interface.iter().enumerate() {
+        for n in i.bodies.iter().filter(|n| !body_known(n)) {
+            c.fail(format!("interface[{k}].bodies"), format!("there is no body named '{n}'"));
+        }
+        if !has_joint(s, &i.joint) {
+            c.fail(format!("interface[{k}].joint"), format!("there is no joint named '{}'", i.joint));
+        }
+    }
+    // Cutting (joint sets, joint planes, excavations) is the rock-mass modelling stage, not
+    // in this version yet: refuse rather than silently ignore.
+    if !s.joint_set.is_empty() || !s.joint_plane.is_empty() || !s.excavation.is_empty() {
+        let key = if !s.joint_set.is_empty() { "joint_set" } else if !s.joint_plane.is_empty() { "joint_plane" } else { "excavation" };
+        c.fail(key, "cutting bodies by joints and excavations is not supported by this version of nmm3d yet");
+    }
+}
+
+fn region_ok(c: &mut Checker, path: &str, r: &Region) {
+    let Region::Box { min, max } = r;
+    if (0..3).any(|i| !(min[i] <= max[i])) {
+        c.fail(format!("{path}.box"), "min must not exceed max in any axis");
+    }
+}
+
+fn loads(c: &mut Checker, s: &Scenario) {
+    for (k, x) in s.constraint.iter().enumerate() {
+        region_ok(c, &format!("constraint[{k}].select"), &x.select);
+        if x.directions.is_empty() {
+            c.fail(format!("constraint[{k}].directions"), "name at least one direction");
+        }
+    }
+    for (k, x) in s.fixed_point.iter().enumerate() {
+        if x.directions.is_empty() {
+            c.fail(format!("fixed_point[{k}].directions"), "name at least one direction");
+        }
+    }
+    for (k, x) in s.surface_load.iter().enumerate() {
+        region_ok(c, &format!("surface_load[{k}].select"), &x.select);
+    }
+}
+
+fn monitors(c: &mut Checker, s: &Scenario) {
+    c.unique("monitor", s.monitor.iter().map(|m| &m.name));
+    for m in &s.monitor {
+        let p = format!("monitor.{}", m.name);
+        if m.quantities.is_empty() {
+            c.fail(format!("{p}.quantities"), "name at least one quantity");
+        }
+        if let MonitorSelect::Body(b) = &m.select {
+            if !s.body.iter().any(|x| &x.name == b) {
+                c.fail(format!("{p}.select.body"), format!("there is no body named '{b}'"));
+            }
+        }
+    }
+}

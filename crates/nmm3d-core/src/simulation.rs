@@ -1,0 +1,211 @@
+//! The façade: build the system, step to the end, record monitors and frames, write outputs.
+//! Failures after the model is built end the run with status "failed" and leave every output
+//! valid up to the last accepted step; `summary.json` is always written last.
+
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use serde_json::{json, Map, Value};
+
+use crate::error::{Error, Result};
+use crate::monitor::MonitorPlan;
+use crate::output::{atomic, tables, vtu};
+use crate::scenario::{AnalysisKind, Scenario};
+use crate::state::State;
+use crate::system::System;
+use crate::time::Stepper;
+
+/// How a run ended.
+#[derive(Debug, Clone)]
+pub struct RunOutcome {
+    /// The summary written to `summary.json`.
+    pub summary: Value,
+    /// Whether the run completed (false: failed, see `summary.message`).
+    pub completed: bool,
+}
+
+/// Options of a run.
+#[derive(Debug, Clone, Default)]
+pub struct RunOptions {
+    /// Output directory (created if missing).
+    pub out: PathBuf,
+    /// Show a progress line on standard error when it is a terminal.
+    pub progress: bool,
+}
+
+/// Run a validated scenario. `Err` only for invalid input or unwritable outputs; a run that
+/// fails numerically returns `Ok` with `completed = false`.
+pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutcome> {
+    let t_start = Instant::now();
+    let sys = System::build(scenario, label)?;
+    let monitors = MonitorPlan::all(&sys, label)?;
+    let out = &opts.out;
+    std::fs::create_dir_all(out.join("frames")).map_err(|e| Error::io(out, e))?;
+    let _ = std::fs::remove_file(out.join("summary.json"));
+    tables::write_blocks(&sys, out)?;
+    let mut rec = Recorder::new(&sys, monitors, out);
+    let mut state = State::initial(&sys);
+    let mut stepper = Stepper::new(&sys);
+    let progress = opts.progress && std::io::stderr().is_terminal();
+    let result = stepper.initialize(&sys, &mut state).and_then(|_| {
+        rec.record(&sys, &state, true)?;
+        advance(&sys, &mut state, &mut stepper, &mut rec, progress)
+    });
+    if progress {
+        eprintln!();
+    }
+    let (completed, message) = match result {
+        Ok(m) => (true, m),
+        Err(e @ (Error::Diverged { .. } | Error::Solver { .. })) => (false, e.to_string()),
+        Err(e) => return Err(e),
+    };
+    rec.finish(&sys, &state)?;
+    let summary = summary(&sys, &state, &stepper, &rec, completed, &message, t_start.elapsed().as_secs_f64());
+    let text = serde_json::to_string_pretty(&summary).expect("a JSON value serialises");
+    atomic::write(&out.join("summary.json"), text.as_bytes())?;
+    Ok(RunOutcome { summary, completed })
+}
+
+/// Step until the end; returns the completion message.
+fn advance(sys: &System, state: &mut State, stepper: &mut Stepper, rec: &mut Recorder, progress: bool) -> Result<String> {
+    let a = &sys.scenario.analysis;
+    let end = a.duration;
+    let mut last_print = Instant::now();
+    loop {
+        if state.time >= end * (1.0 - 1e-12) {
+            return Ok(match a.kind {
+                AnalysisKind::Dynamic => format!("reached t = {end} s"),
+                AnalysisKind::Static => format!("reached the duration t = {end} s before equilibrium (unbalanced force ratio {:.3e})", rec.last_unbalanced),
+            });
+        }
+        if state.step >= a.max_steps {
+            return Ok(format!("stopped at max_steps = {} (t = {} s)", a.max_steps, state.time));
+        }
+        let cap = (end - state.time).max(0.0);
+        let report = stepper.step(sys, state, cap)?;
+        rec.last_unbalanced = report.unbalanced;
+        rec.cuts += report.cuts as u64;
+        if state.x.iter().any(|x| !x.iter().all(|c| c.is_finite())) {
+            return Err(Error::Diverged { step: state.step, time: state.time, reason: "a displacement is not finite".into() });
+        }
+        rec.record(sys, state, false)?;
+        if progress && last_print.elapsed().as_secs_f64() > 0.5 {
+            eprint!("\r  step {:>8}  t = {:<12.6} dt = {:.3e}   ", state.step, state.time, report.dt);
+            let _ = std::io::stderr().flush();
+            last_print = Instant::now();
+        }
+        if a.kind == AnalysisKind::Static && state.step > 1 && report.unbalanced <= a.equilibrium_tolerance {
+            return Ok(format!("equilibrium reached (unbalanced force ratio {:.3e})", report.unbalanced));
+        }
+    }
+}
+
+/// Records history rows and frames as the run goes.
+struct Recorder {
+    monitors: Vec<MonitorPlan>,
+    history: tables::History,
+    frames: Vec<(f64, String)>,
+    out: PathBuf,
+    next_history: f64,
+    next_frame: f64,
+    last_frame_step: Option<u64>,
+    last_unbalanced: f64,
+    cuts: u64,
+    output_seconds: f64,
+}
+
+impl Recorder {
+    fn new(_sys: &System, monitors: Vec<MonitorPlan>, out: &Path) -> Self {
+        let columns = monitors.iter().flat_map(|m| m.columns()).collect();
+        Self {
+            monitors,
+            history: tables::History::new(columns),
+            frames: Vec::new(),
+            out: out.to_path_buf(),
+            next_history: 0.0,
+            next_frame: 0.0,
+            last_frame_step: None,
+            last_unbalanced: f64::NAN,
+            cuts: 0,
+            output_seconds: 0.0,
+        }
+    }
+
+    fn record(&mut self, sys: &System, state: &State, first: bool) -> Result<()> {
+        let t = Instant::now();
+        let a = &sys.scenario.analysis;
+        let eps = 1e-9 * a.dt;
+        if first || a.history_interval.is_none() || state.time + eps >= self.next_history {
+            let vals = self.monitors.iter().flat_map(|m| m.values(sys, state)).collect();
+            self.history.rows.push((state.time, state.step, vals));
+            if let Some(h) = a.history_interval {
+                self.next_history = (state.time / h + 1e-9).floor() * h + h;
+            }
+        }
+        if first || (a.output_interval > 0.0 && state.time + eps >= self.next_frame) {
+            self.frame(sys, state)?;
+            if a.output_interval > 0.0 {
+                self.next_frame = (state.time / a.output_interval + 1e-9).floor() * a.output_interval + a.output_interval;
+            }
+        }
+        self.output_seconds += t.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    fn frame(&mut self, sys: &System, state: &State) -> Result<()> {
+        let name = format!("frames/blocks_{:05}.vtu", self.frames.len());
+        vtu::write_frame(sys, state, &self.out.join(&name))?;
+        self.frames.push((state.time, name));
+        self.last_frame_step = Some(state.step);
+        vtu::write_pvd(&self.out.join("result.pvd"), &self.frames)?;
+        self.history.write(&self.out)
+    }
+
+    fn finish(&mut self, sys: &System, state: &State) -> Result<()> {
+        if self.last_frame_step != Some(state.step) {
+            self.frame(sys, state)?;
+        }
+        self.history.write(&self.out)
+    }
+
+    fn final_values(&self) -> Map<String, Value> {
+        let mut m = Map::new();
+        if let Some((_, _, vals)) = self.history.rows.last() {
+            for (c, v) in self.history.columns.iter().zip(vals) {
+                let _ = m.insert(c.clone(), json!(v));
+            }
+        }
+        m
+    }
+}
+
+fn summary(sys: &System, state: &State, stepper: &Stepper, rec: &Recorder, completed: bool, message: &str, wall: f64) -> Value {
+    let mut timings = Map::new();
+    for (k, v) in &sys.timings {
+        let _ = timings.insert(k.clone(), json!(v));
+    }
+    let (symbolic, numeric) = stepper.solver_timings();
+    let _ = timings.insert("assembly".into(), json!(stepper.times.assembly));
+    let _ = timings.insert("ordering_symbolic".into(), json!(symbolic));
+    let _ = timings.insert("factorization".into(), json!(numeric));
+    let _ = timings.insert("solve".into(), json!(stepper.times.solve));
+    let _ = timings.insert("output".into(), json!(rec.output_seconds));
+    json!({
+        "status": if completed { "completed" } else { "failed" },
+        "message": message,
+        "steps": state.step,
+        "time": state.time,
+        "wall_seconds": wall,
+        "blocks": sys.geometry.blocks.len(),
+        "manifold_elements": sys.covers.elements.len(),
+        "physical_covers": sys.covers.covers.len(),
+        "dofs": sys.n_eq(),
+        "max_penetration": 0.0,
+        "step_cuts": rec.cuts,
+        "unbalanced_force_ratio": rec.last_unbalanced,
+        "stress_sign": "compression negative",
+        "timings": Value::Object(timings),
+        "final": Value::Object(rec.final_values()),
+    })
+}

@@ -1,0 +1,19 @@
+//! Sparse symmetric positive-definite solves behind one interface, so other backends (an
+//! iterative PCG, PETSc for one huge model) can be added without touching the stepper.
+
+mod faer_cholesky;
+
+pub use faer_cholesky::FaerCholesky;
+
+use crate::assembly::SparsityPattern;
+
+/// A factorise-then-solve linear solver for a fixed sparsity pattern.
+pub trait LinearSolver: Send {
+    /// Factorise the matrix with the given pattern (lower triangle) and values. The symbolic
+    /// analysis (ordering, elimination tree) is done on the first call and reused.
+    fn factorize(&mut self, pattern: &SparsityPattern, values: &[f64]) -> Result<(), String>;
+    /// Solve in place with the last factorisation.
+    fn solve(&self, rhs: &mut [f64]);
+    /// Seconds spent in symbolic analysis and in numeric factorisation so far.
+    fn timings(&self) -> (f64, f64);
+}

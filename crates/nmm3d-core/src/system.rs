@@ -1,0 +1,212 @@
+//! The discretised, immutable model: geometry, covers, element kernels, loads, constraints,
+//! equation numbering and the assembler. Built once per run; `State` carries what changes.
+
+use std::collections::HashMap;
+use std::time::Instant;
+
+use nmm3d_geom::Vec3;
+
+use crate::assembly::{Assembler, DofMap, SparsityPattern};
+use crate::cover::pattern::parity;
+use crate::cover::{Covers, MathMesh, PatternTable};
+use crate::element::{element_kernel, loads, penalty, ElementKernel, PointConstraint};
+use crate::error::{Error, Result};
+use crate::model::Geometry;
+use crate::scenario::{Scenario, Stiffness};
+
+/// Everything that does not change during a run.
+pub struct System {
+    /// The validated scenario.
+    pub scenario: Scenario,
+    /// Blocks and materials.
+    pub geometry: Geometry,
+    /// Mathematical mesh, MEs and physical covers.
+    pub covers: Covers,
+    /// Distinct kernels (identical full sub-cells share one).
+    pub kernels: Vec<ElementKernel>,
+    /// Kernel of each ME.
+    pub kernel_of: Vec<usize>,
+    /// Initial-stress nodal forces per ME (empty without in-situ stress).
+    pub initial_forces: Vec<Vec<Vec3>>,
+    /// Mean initial stress per ME [Pa] (zeros without in-situ stress).
+    pub initial_stress: Vec<[f64; 6]>,
+    /// Equation numbering.
+    pub dofs: DofMap,
+    /// Scatter maps and pattern.
+    pub assembler: Assembler,
+    /// Assembled consistent mass (values on the pattern).
+    pub mass_values: Vec<f64>,
+    /// External dead load per cover [N].
+    pub external: Vec<Vec3>,
+    /// Penalty points.
+    pub constraints: Vec<PointConstraint>,
+    /// Penalty stiffness [N/m].
+    pub penalty: f64,
+    /// Half the largest model extent, w₀ of the displacement ratio [m].
+    pub half_size: f64,
+    /// Seconds spent building covers and assembling constant parts.
+    pub timings: Vec<(String, f64)>,
+}
+
+impl System {
+    /// Discretise a validated scenario (`label` names it in error messages).
+    pub fn build(scenario: Scenario, label: &str) -> Result<Self> {
+        let t = Instant::now();
+        let geometry = Geometry::from_scenario(&scenario);
+        let bb = geometry.aabb();
+        let ext = bb.extent();
+        let size = scenario.cover.size.unwrap_or(0.1 * ext.x.min(ext.y).min(ext.z));
+        let c = &scenario.cover;
+        let mesh = MathMesh::new(size, Vec3::from(c.origin), c.rotation);
+        let covers = Covers::build(&geometry, mesh, PatternTable::new(c.pattern));
+        let t_covers = t.elapsed().as_secs_f64();
+
+        let t = Instant::now();
+        let (kernels, kernel_of) = build_kernels(&covers, &geometry);
+        let (initial_forces, initial_stress) = match &scenario.in_situ_stress {
+            Some(s) => covers.elements.iter().map(|e| loads::initial_stress(&covers, e, s)).unzip(),
+            None => (vec![Vec::new(); covers.elements.len()], vec![[0.0; 6]; covers.elements.len()]),
+        };
+        let fixed_block: Vec<bool> = geometry.blocks.iter().map(|b| b.fixed).collect();
+        let dofs = DofMap::new(covers.covers.iter().map(|c| !fixed_block[c.block]));
+        let cliques: Vec<&[usize]> = covers.elements.iter().map(|e| e.covers.as_slice()).collect();
+        let pattern = SparsityPattern::from_cliques(&dofs, covers.covers.len(), cliques.iter().copied());
+        let assembler = Assembler::new(pattern, &dofs, &cliques);
+        let mut mass_values = vec![0.0; assembler.pattern.nnz()];
+        for (e, me) in covers.elements.iter().enumerate() {
+            let k = &kernels[kernel_of[e]];
+            assembler.add(&mut mass_values, e, &expand_mass(&k.mass, me.covers.len()));
+        }
+        let max_young = geometry.materials.iter().map(|m| m.young).fold(0.0, f64::max);
+        let penalty = match scenario.analysis.penalty_stiffness {
+            Stiffness::Value(v) => v,
+            Stiffness::Auto => scenario.analysis.penalty_factor * max_young * size,
+        };
+        let mut sys = Self {
+            external: vec![Vec3::zeros(); covers.covers.len()],
+            constraints: Vec::new(),
+            half_size: 0.5 * ext.max(),
+            scenario,
+            geometry,
+            covers,
+            kernels,
+            kernel_of,
+            initial_forces,
+            initial_stress,
+            dofs,
+            assembler,
+            mass_values,
+            penalty,
+            timings: Vec::new(),
+        };
+        sys.add_loads(label)?;
+        sys.add_constraints(label)?;
+        sys.timings = vec![("covers".into(), t_covers), ("assembly_setup".into(), t.elapsed().as_secs_f64())];
+        Ok(sys)
+    }
+
+    /// Number of free equations.
+    pub fn n_eq(&self) -> usize {
+        self.dofs.n_eq
+    }
+
+    /// Kernel of ME `e`.
+    pub fn kernel(&self, e: usize) -> &ElementKernel {
+        &self.kernels[self.kernel_of[e]]
+    }
+
+    /// The block holding a reference point (first match), and the ME.
+    pub fn locate(&self, x: &Vec3) -> Option<(usize, usize)> {
+        let tol = 1e-9 * self.covers.mesh.size;
+        let b = self.geometry.blocks.iter().position(|b| b.contains(x, tol))?;
+        self.covers.locate(b, x, tol).map(|e| (b, e))
+    }
+
+    fn add_loads(&mut self, label: &str) -> Result<()> {
+        let g = Vec3::from(self.scenario.analysis.gravity);
+        for (e, me) in self.covers.elements.iter().enumerate() {
+            let rho = self.geometry.materials[self.geometry.blocks[me.block].material].density;
+            let k = &self.kernels[self.kernel_of[e]];
+            for (a, &c) in me.covers.iter().enumerate() {
+                self.external[c] += rho * k.integral_w[a] * g;
+            }
+        }
+        for (i, pl) in self.scenario.point_load.clone().iter().enumerate() {
+            let x = Vec3::from(pl.point);
+            let (_, e) = self.locate(&x).ok_or_else(|| Error::input(label, format!("point_load[{i}].point"), "the point is not inside any block"))?;
+            let w = loads::weights_at(&self.covers, &self.covers.elements[e], &x);
+            for (a, &c) in self.covers.elements[e].covers.iter().enumerate() {
+                self.external[c] += w[a] * Vec3::from(pl.force);
+            }
+        }
+        for (i, sl) in self.scenario.surface_load.clone().iter().enumerate() {
+            let mut hit = false;
+            for me in &self.covers.elements {
+                if let Some(ints) = loads::boundary_face_integrals(&self.covers, me, &sl.select) {
+                    hit = true;
+                    for (a, &c) in me.covers.iter().enumerate() {
+                        self.external[c] += ints[a] * Vec3::from(sl.traction);
+                    }
+                }
+            }
+            if !hit {
+                return Err(Error::input(label, format!("surface_load[{i}].select"), "no block boundary face has its centroid in the region"));
+            }
+        }
+        Ok(())
+    }
+
+    fn add_constraints(&mut self, label: &str) -> Result<()> {
+        let weld = 1e-9 * self.half_size.max(self.covers.mesh.size);
+        for (i, c) in self.scenario.constraint.clone().iter().enumerate() {
+            let pts = penalty::boundary_vertices_in(&self.covers, &c.select, weld);
+            if pts.is_empty() {
+                return Err(Error::input(label, format!("constraint[{i}].select"), "no block boundary vertex lies in the region"));
+            }
+            for (e, x) in pts {
+                self.constraints.push(penalty::point_constraint(&self.covers, e, x, &c.directions));
+            }
+        }
+        for (i, f) in self.scenario.fixed_point.clone().iter().enumerate() {
+            let x = Vec3::from(f.point);
+            let (_, e) = self.locate(&x).ok_or_else(|| Error::input(label, format!("fixed_point[{i}].point"), "the point is not inside any block"))?;
+            self.constraints.push(penalty::point_constraint(&self.covers, e, x, &f.directions));
+        }
+        Ok(())
+    }
+}
+
+/// n × n scalar mass → (3n) × (3n) block-diagonal-per-pair matrix.
+pub fn expand_mass(mass: &[f64], n: usize) -> Vec<f64> {
+    let mut out = vec![0.0; 9 * n * n];
+    for a in 0..n {
+        for b in 0..n {
+            for i in 0..3 {
+                out[(3 * a + i) * 3 * n + 3 * b + i] = mass[a * n + b];
+            }
+        }
+    }
+    out
+}
+
+fn build_kernels(covers: &Covers, geometry: &Geometry) -> (Vec<ElementKernel>, Vec<usize>) {
+    let mut kernels = Vec::new();
+    let mut shared: HashMap<(usize, usize, usize), usize> = HashMap::new();
+    let mut kernel_of = Vec::with_capacity(covers.elements.len());
+    for e in &covers.elements {
+        let mat_id = geometry.blocks[e.block].material;
+        let mat = &geometry.materials[mat_id];
+        let make = || element_kernel(&e.moments, covers.weights(e), &covers.mesh, mat);
+        let id = if e.full {
+            *shared.entry((mat_id, parity(e.cell), e.subcell)).or_insert_with(|| {
+                kernels.push(make());
+                kernels.len() - 1
+            })
+        } else {
+            kernels.push(make());
+            kernels.len() - 1
+        };
+        kernel_of.push(id);
+    }
+    (kernels, kernel_of)
+}

@@ -1,0 +1,9 @@
+//! Time stepping: Newmark/DDA integration, co-rotation, adaptive step, the stepper.
+
+pub mod corotation;
+pub mod integrator;
+pub mod step_control;
+pub mod stepper;
+
+pub use integrator::Newmark;
+pub use stepper::{StepReport, Stepper};

@@ -1,0 +1,62 @@
+//! Adaptive time step from the maximum displacement ratio (DDA's g₂ rule, Shi 1988;
+//! ntdda `timestep.c`), with every constant a named scenario parameter:
+//!
+//! * ratio r = max_i |d_i| / (g₂ w₀), w₀ = half the largest model extent;
+//! * r > 1: the step is rejected and repeated with Δt ← Δt · max(0.1, target / r), not below
+//!   `min_dt_ratio · dt`; at the smallest step, r ≤ `divergence_ratio` is accepted, more is
+//!   divergence;
+//! * accepted: the next Δt = min(dt, remaining time, Δt · min(max_dt_growth, target / r)).
+
+use crate::scenario::Analysis;
+
+/// Largest single cut factor.
+const MAX_CUT: f64 = 0.1;
+
+/// What to do with a trial step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Verdict {
+    /// Accept it.
+    Accept,
+    /// Repeat with this step.
+    Retry(f64),
+    /// No acceptable step exists.
+    Diverged,
+}
+
+/// Judge a trial step of size `dt` that gave displacement ratio `r`.
+pub fn judge(a: &Analysis, dt: f64, r: f64) -> Verdict {
+    let dt_min = a.min_dt_ratio * a.dt;
+    if !r.is_finite() {
+        return if dt > dt_min { Verdict::Retry((dt * MAX_CUT).max(dt_min)) } else { Verdict::Diverged };
+    }
+    if r <= 1.0 {
+        return Verdict::Accept;
+    }
+    if dt > dt_min * (1.0 + 1e-12) {
+        return Verdict::Retry((dt * (a.target_displacement_ratio / r).max(MAX_CUT)).max(dt_min));
+    }
+    if r <= a.divergence_ratio { Verdict::Accept } else { Verdict::Diverged }
+}
+
+/// Step size after an accepted step of size `dt` with ratio `r`.
+pub fn next_dt(a: &Analysis, dt: f64, r: f64) -> f64 {
+    let grow = if r > 0.0 { (a.target_displacement_ratio / r).min(a.max_dt_growth) } else { a.max_dt_growth };
+    (dt * grow).min(a.dt)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cuts_and_growth_follow_the_rules() {
+        let a = Analysis::default();
+        assert_eq!(judge(&a, 1e-3, 0.5), Verdict::Accept);
+        assert_eq!(judge(&a, 1e-3, 4.0), Verdict::Retry(1e-3 * 0.2));
+        assert_eq!(judge(&a, 1e-3, 1e6), Verdict::Retry(1e-4));
+        assert_eq!(judge(&a, 1e-7, 2.0), Verdict::Accept);
+        assert_eq!(judge(&a, 1e-7, 1e9), Verdict::Diverged);
+        assert!((next_dt(&a, 1e-4, 0.1) - 1.2e-4).abs() < 1e-18);
+        assert_eq!(next_dt(&a, 1e-3, 0.0), 1e-3);
+    }
+}

@@ -1,0 +1,250 @@
+//! The stepper: one implicit step of the whole system, with step rejection and retry.
+//!
+//! Per step: assemble the co-rotated tangent and the unbalanced force at the current
+//! configuration (once), then for each trial Δt combine with the mass term, factorise (the
+//! symbolic analysis is reused), solve, judge the displacement ratio, and either accept
+//! (update positions, velocities, accelerations) or retry with a smaller Δt.
+
+use std::time::Instant;
+
+use nmm3d_geom::Vec3;
+
+use super::corotation;
+use super::integrator::Newmark;
+use super::step_control::{self, Verdict};
+use crate::error::{Error, Result};
+use crate::scenario::AnalysisKind;
+use crate::solver::{FaerCholesky, LinearSolver};
+use crate::state::State;
+use crate::system::System;
+
+/// Diagnostics of one accepted step.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct StepReport {
+    /// Accepted step [s].
+    pub dt: f64,
+    /// Rejected trials before acceptance.
+    pub cuts: u32,
+    /// Displacement ratio of the accepted step.
+    pub ratio: f64,
+    /// Unbalanced force / force scale at the start of the step.
+    pub unbalanced: f64,
+}
+
+/// Seconds spent per phase.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct PhaseTimes {
+    /// Element loop and scatter.
+    pub assembly: f64,
+    /// Numeric factorisation (and symbolic, first time).
+    pub factorization: f64,
+    /// Triangular solves.
+    pub solve: f64,
+}
+
+/// Orchestrates steps; owns the linear solver and work buffers.
+pub struct Stepper {
+    solver: Box<dyn LinearSolver>,
+    newmark: Newmark,
+    tangent: Vec<f64>,
+    values: Vec<f64>,
+    force_scale: f64,
+    /// Time per phase so far.
+    pub times: PhaseTimes,
+}
+
+impl Stepper {
+    /// A stepper with faer's sparse Cholesky.
+    pub fn new(sys: &System) -> Self {
+        let nnz = sys.assembler.pattern.nnz();
+        Self {
+            solver: Box::new(FaerCholesky::default()),
+            newmark: Newmark::from_analysis(&sys.scenario.analysis),
+            tangent: vec![0.0; nnz],
+            values: vec![0.0; nnz],
+            force_scale: 0.0,
+            times: PhaseTimes::default(),
+        }
+    }
+
+    /// Symbolic and numeric factorisation seconds of the solver.
+    pub fn solver_timings(&self) -> (f64, f64) {
+        self.solver.timings()
+    }
+
+    /// Initial acceleration M a₀ = F − F_int(x₀), needed when β ≠ ½.
+    pub fn initialize(&mut self, sys: &System, state: &mut State) -> Result<()> {
+        let residual = self.assemble(sys, state);
+        self.force_scale = scale(sys, &residual).max(scale(sys, &sys.external));
+        if sys.scenario.analysis.kind == AnalysisKind::Dynamic && self.newmark.uses_acceleration() && sys.n_eq() > 0 {
+            self.solver.factorize(&sys.assembler.pattern, &sys.mass_values).map_err(|r| Error::Solver { step: 0, reason: r })?;
+            let mut rhs = gather(sys, &residual);
+            self.solver.solve(&mut rhs);
+            scatter_into(sys, &rhs, &mut state.a);
+        }
+        Ok(())
+    }
+
+    /// Unbalanced force ratio at the current state (static equilibrium measure).
+    pub fn unbalanced_ratio(&self, sys: &System, residual: &[Vec3]) -> f64 {
+        if self.force_scale > 0.0 { scale(sys, residual) / self.force_scale } else { 0.0 }
+    }
+
+    /// One accepted step (possibly after cuts). `dt_cap` bounds the step (output times, end).
+    pub fn step(&mut self, sys: &System, state: &mut State, dt_cap: f64) -> Result<StepReport> {
+        let t = Instant::now();
+        let residual = self.assemble(sys, state);
+        let unbalanced = self.unbalanced_ratio(sys, &residual);
+        let (mv, ma) = (mass_times(sys, &state.v), mass_times(sys, &state.a));
+        self.times.assembly += t.elapsed().as_secs_f64();
+        let analysis = &sys.scenario.analysis;
+        let mut dt = state.dt.min(dt_cap);
+        let mut cuts = 0;
+        loop {
+            let k = self.newmark.coefficients(dt);
+            let d = self.solve_trial(sys, state, &residual, &mv, &ma, k.c0, k.c1, k.c2)?;
+            let dmax = d.iter().map(|x| x.norm()).fold(0.0, f64::max);
+            let ratio = dmax / (analysis.max_displacement_ratio * sys.half_size);
+            match step_control::judge(analysis, dt, ratio) {
+                Verdict::Accept => {
+                    self.accept(sys, state, &d, dt);
+                    state.dt = step_control::next_dt(analysis, dt, ratio);
+                    return Ok(StepReport { dt, cuts, ratio, unbalanced });
+                }
+                Verdict::Retry(smaller) => {
+                    dt = smaller;
+                    cuts += 1;
+                }
+                Verdict::Diverged => {
+                    return Err(Error::Diverged {
+                        step: state.step + 1,
+                        time: state.time,
+                        reason: format!("the step displacement ratio is {ratio:.3e} even at the smallest time step {dt:.3e} s"),
+                    })
+                }
+            }
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)] // the Newmark coefficients travel together with the vectors they scale
+    fn solve_trial(&mut self, sys: &System, state: &State, residual: &[Vec3], mv: &[Vec3], ma: &[Vec3], c0: f64, c1: f64, c2: f64) -> Result<Vec<Vec3>> {
+        let t = Instant::now();
+        for ((v, k), m) in self.values.iter_mut().zip(&self.tangent).zip(&sys.mass_values) {
+            *v = k + c0 * m;
+        }
+        self.solver
+            .factorize(&sys.assembler.pattern, &self.values)
+            .map_err(|r| Error::Solver { step: state.step + 1, reason: r })?;
+        self.times.factorization += t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let rhs_cover: Vec<Vec3> = (0..residual.len()).map(|c| residual[c] + c1 * mv[c] + c2 * ma[c]).collect();
+        let mut rhs = gather(sys, &rhs_cover);
+        self.solver.solve(&mut rhs);
+        let mut d = vec![Vec3::zeros(); residual.len()];
+        scatter_into(sys, &rhs, &mut d);
+        self.times.solve += t.elapsed().as_secs_f64();
+        Ok(d)
+    }
+
+    fn accept(&self, sys: &System, state: &mut State, d: &[Vec3], dt: f64) {
+        let k = self.newmark.coefficients(dt);
+        let g = self.newmark.gamma;
+        let is_static = sys.scenario.analysis.kind == AnalysisKind::Static;
+        for c in 0..d.len() {
+            if sys.dofs.eq(c, 0).is_none() {
+                continue;
+            }
+            let a_new = k.c0 * d[c] - k.c1 * state.v[c] - k.c2 * state.a[c];
+            let v_new = state.v[c] + dt * ((1.0 - g) * state.a[c] + g * a_new);
+            state.x[c] += d[c];
+            (state.v[c], state.a[c]) = if is_static { (Vec3::zeros(), Vec3::zeros()) } else { (v_new, a_new) };
+        }
+        state.time += dt;
+        state.step += 1;
+    }
+
+    /// Tangent into `self.tangent`, unbalanced force per cover returned; updates rotations.
+    pub fn assemble(&mut self, sys: &System, state: &mut State) -> Vec<Vec3> {
+        self.tangent.iter_mut().for_each(|v| *v = 0.0);
+        let mut residual = sys.external.clone();
+        for e in 0..sys.covers.elements.len() {
+            let f = corotation::deformation_gradient(sys, state, e);
+            let r = corotation::rotation(&f, &state.rotations[e]);
+            state.rotations[e] = r;
+            let (fint, t) = corotation::internal_force_and_tangent(sys, state, e, &r);
+            sys.assembler.add(&mut self.tangent, e, &t);
+            for (a, &c) in sys.covers.elements[e].covers.iter().enumerate() {
+                residual[c] -= fint[a];
+            }
+        }
+        self.add_penalties(sys, state, &mut residual);
+        residual
+    }
+
+    fn add_penalties(&mut self, sys: &System, state: &State, residual: &mut [Vec3]) {
+        let k = sys.penalty;
+        for p in &sys.constraints {
+            let me = &sys.covers.elements[p.element];
+            let n = me.covers.len();
+            let u: Vec3 = me.covers.iter().zip(&p.weights).map(|(&c, w)| *w * state.displacement(sys, c)).sum();
+            let mut local = vec![0.0; 9 * n * n];
+            for dir in &p.directions {
+                let nn = dir * dir.transpose();
+                for a in 0..n {
+                    residual[me.covers[a]] -= k * p.weights[a] * dir.dot(&u) * dir;
+                    for b in 0..n {
+                        let s = k * p.weights[a] * p.weights[b];
+                        for i in 0..3 {
+                            for j in 0..3 {
+                                local[(3 * a + i) * 3 * n + 3 * b + j] += s * nn[(i, j)];
+                            }
+                        }
+                    }
+                }
+            }
+            sys.assembler.add(&mut self.tangent, p.element, &local);
+        }
+    }
+}
+
+/// M w, per cover, from the element masses.
+fn mass_times(sys: &System, w: &[Vec3]) -> Vec<Vec3> {
+    let mut out = vec![Vec3::zeros(); w.len()];
+    if w.iter().all(|x| *x == Vec3::zeros()) {
+        return out;
+    }
+    for (e, me) in sys.covers.elements.iter().enumerate() {
+        let k = sys.kernel(e);
+        let n = me.covers.len();
+        for a in 0..n {
+            let acc: Vec3 = (0..n).map(|b| k.mass[a * n + b] * w[me.covers[b]]).sum();
+            out[me.covers[a]] += acc;
+        }
+    }
+    out
+}
+
+/// Largest force magnitude over free covers.
+fn scale(sys: &System, f: &[Vec3]) -> f64 {
+    f.iter().enumerate().filter(|(c, _)| sys.dofs.eq(*c, 0).is_some()).map(|(_, v)| v.norm()).fold(0.0, f64::max)
+}
+
+/// Per-cover vectors → equation vector.
+fn gather(sys: &System, f: &[Vec3]) -> Vec<f64> {
+    let mut out = vec![0.0; sys.n_eq()];
+    for (c, v) in f.iter().enumerate() {
+        if let Some(e) = sys.dofs.eq(c, 0) {
+            out[e..e + 3].copy_from_slice(v.as_slice());
+        }
+    }
+    out
+}
+
+/// Equation vector → per-cover vectors (fixed covers untouched).
+fn scatter_into(sys: &System, x: &[f64], out: &mut [Vec3]) {
+    for (c, o) in out.iter_mut().enumerate() {
+        if let Some(e) = sys.dofs.eq(c, 0) {
+            *o = Vec3::new(x[e], x[e + 1], x[e + 2]);
+        }
+    }
+}
