@@ -7,7 +7,8 @@ use nmm3d_geom::{Mat3, Vec3};
 
 use crate::element::kernel::stress_components;
 use crate::error::{Error, Result};
-use crate::scenario::{MonitorSelect, Quantity};
+use crate::element::loads::weights_at;
+use crate::scenario::{MonitorLocation, MonitorSelect, Quantity};
 use crate::state::State;
 use crate::system::System;
 use crate::time::corotation;
@@ -48,7 +49,14 @@ impl MonitorPlan {
                     blocks[0]
                 }
             };
-            out.push(Self::new(sys, m.name.clone(), block, m.quantities.clone()));
+            let mut plan = Self::new(sys, m.name.clone(), block, m.quantities.clone());
+            if let (MonitorLocation::Point, MonitorSelect::Point(p)) = (m.location, &m.select) {
+                let x = Vec3::from(*p);
+                let (_, e) = sys.locate(&x).expect("located above");
+                let me = &sys.covers.elements[e];
+                plan.weights = me.covers.iter().copied().zip(weights_at(&sys.covers, me, &x)).collect();
+            }
+            out.push(plan);
         }
         Ok(out)
     }
@@ -103,7 +111,7 @@ impl MonitorPlan {
     }
 
     fn rotation(&self, state: &State) -> Mat3 {
-        let f: Mat3 = self.gradients.iter().map(|(c, g)| state.x[*c] * g.transpose()).sum();
+        let f: Mat3 = Mat3::identity() + self.gradients.iter().map(|(c, g)| state.u[*c] * g.transpose()).sum::<Mat3>();
         corotation::rotation(&f, &Mat3::identity())
     }
 
@@ -123,5 +131,5 @@ impl MonitorPlan {
 pub fn current_polyhedron(sys: &System, state: &State, e: usize) -> nmm3d_geom::ConvexPolyhedron {
     let me = &sys.covers.elements[e];
     let w = sys.covers.weights(me);
-    me.local.map(|xi| me.covers.iter().zip(w).map(|(&c, wa)| wa.eval(xi) * state.x[c]).sum())
+    me.local.map(|xi| me.covers.iter().zip(w).map(|(&c, wa)| wa.eval(xi) * state.position(sys, c)).sum())
 }

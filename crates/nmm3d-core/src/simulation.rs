@@ -86,7 +86,7 @@ fn advance(sys: &System, state: &mut State, stepper: &mut Stepper, rec: &mut Rec
         let report = stepper.step(sys, state, cap)?;
         rec.last_unbalanced = report.unbalanced;
         rec.cuts += report.cuts as u64;
-        if state.x.iter().any(|x| !x.iter().all(|c| c.is_finite())) {
+        if state.u.iter().any(|x| !x.iter().all(|c| c.is_finite())) {
             return Err(Error::Diverged { step: state.step, time: state.time, reason: "a displacement is not finite".into() });
         }
         rec.record(sys, state, false)?;

@@ -14,8 +14,9 @@ pub struct State {
     pub step: u64,
     /// Time step to try next [s].
     pub dt: f64,
-    /// Current position of each cover's node [m] (reference + displacement).
-    pub x: Vec<Vec3>,
+    /// Displacement of each cover [m]; positions are reference + displacement, kept apart
+    /// so that small displacements of far-away blocks keep full precision.
+    pub u: Vec<Vec3>,
     /// Velocity of each cover [m/s].
     pub v: Vec<Vec3>,
     /// Acceleration of each cover [m/s²] (used by Newmark with β ≠ ½).
@@ -28,7 +29,7 @@ impl State {
     /// The state at t = 0: reference positions and the blocks' initial velocities.
     pub fn initial(sys: &System) -> Self {
         let dynamic = sys.scenario.analysis.kind == AnalysisKind::Dynamic;
-        let x: Vec<Vec3> = sys.covers.covers.iter().map(|c| c.position).collect();
+        let n = sys.covers.covers.len();
         let v = sys
             .covers
             .covers
@@ -42,15 +43,20 @@ impl State {
             time: 0.0,
             step: 0,
             dt: sys.scenario.analysis.dt,
-            a: vec![Vec3::zeros(); x.len()],
-            x,
+            a: vec![Vec3::zeros(); n],
+            u: vec![Vec3::zeros(); n],
             v,
             rotations: vec![Mat3::identity(); sys.covers.elements.len()],
         }
     }
 
     /// Displacement of cover `c` [m].
-    pub fn displacement(&self, sys: &System, c: usize) -> Vec3 {
-        self.x[c] - sys.covers.covers[c].position
+    pub fn displacement(&self, _sys: &System, c: usize) -> Vec3 {
+        self.u[c]
+    }
+
+    /// Current position of cover `c`'s node [m].
+    pub fn position(&self, sys: &System, c: usize) -> Vec3 {
+        sys.covers.covers[c].position + self.u[c]
     }
 }

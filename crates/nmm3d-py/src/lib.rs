@@ -1,1 +1,53 @@
-pub fn x(){}
+//! Thin PyO3 layer over `nmm3d-core`: scenarios cross as JSON text, results as files and a
+//! JSON summary. Every call converts, releases the GIL while computing, converts back.
+
+mod errors;
+
+use std::path::PathBuf;
+
+use nmm3d_core::scenario;
+use nmm3d_core::simulation::{self, RunOptions};
+use pyo3::prelude::*;
+
+/// Parse, override and validate a TOML scenario file; returns the canonical scenario as JSON.
+#[pyfunction]
+#[pyo3(signature = (path, overrides = Vec::new()))]
+fn load_file(py: Python<'_>, path: PathBuf, overrides: Vec<String>) -> PyResult<String> {
+    let s = py.detach(|| scenario::load_file(&path, &overrides)).map_err(errors::to_py)?;
+    Ok(serde_json::to_string(&s).expect("a scenario serialises"))
+}
+
+/// Validate a scenario given as JSON text (`label` names it in messages); returns it canonical.
+#[pyfunction]
+#[pyo3(signature = (text, label, overrides = Vec::new()))]
+fn load_json(py: Python<'_>, text: String, label: String, overrides: Vec<String>) -> PyResult<String> {
+    let s = py.detach(|| scenario::from_json_str(&text, &label, &overrides)).map_err(errors::to_py)?;
+    Ok(serde_json::to_string(&s).expect("a scenario serialises"))
+}
+
+/// Run a scenario (JSON text) writing outputs to `out`; returns the summary as JSON text.
+#[pyfunction]
+#[pyo3(signature = (text, label, out, progress = false))]
+fn run_json(py: Python<'_>, text: String, label: String, out: PathBuf, progress: bool) -> PyResult<String> {
+    let outcome = py
+        .detach(|| {
+            let s = scenario::from_json_str(&text, &label, &[])?;
+            simulation::run(s, &label, &RunOptions { out, progress })
+        })
+        .map_err(errors::to_py)?;
+    Ok(outcome.summary.to_string())
+}
+
+/// The native module `nmm3d._core`.
+#[pymodule]
+fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(load_file, m)?)?;
+    m.add_function(wrap_pyfunction!(load_json, m)?)?;
+    m.add_function(wrap_pyfunction!(run_json, m)?)?;
+    m.add("NmmError", m.py().get_type::<errors::NmmError>())?;
+    m.add("ScenarioError", m.py().get_type::<errors::ScenarioError>())?;
+    m.add("RunError", m.py().get_type::<errors::RunError>())?;
+    m.add("OutputError", m.py().get_type::<errors::OutputError>())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

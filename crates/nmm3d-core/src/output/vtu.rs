@@ -30,7 +30,7 @@ pub fn write_frame(sys: &System, state: &State, path: &Path) -> Result<()> {
         for xi in &verts {
             let ws: Vec<f64> = w.iter().map(|p| p.eval(xi)).collect();
             let at = |f: &dyn Fn(usize) -> Vec3| -> Vec3 { me.covers.iter().zip(&ws).map(|(&c, wa)| *wa * f(c)).sum() };
-            points.push(at(&|c| state.x[c]));
+            points.push(at(&|c| state.position(sys, c)));
             disp.push(at(&|c| state.displacement(sys, c)));
             vel.push(at(&|c| state.v[c]));
         }

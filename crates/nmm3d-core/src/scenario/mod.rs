@@ -36,10 +36,23 @@ pub fn from_toml_str(text: &str, label: &str, overrides: &[String]) -> Result<Sc
 
 /// Parse a JSON document (from Python dictionaries), apply overrides, validate.
 pub fn from_json_str(text: &str, label: &str, overrides: &[String]) -> Result<Scenario> {
-    let json: serde_json::Value =
+    let mut json: serde_json::Value =
         serde_json::from_str(text).map_err(|e| Error::input(label, "<json>", e.to_string()))?;
+    drop_nulls(&mut json);
     let toml_text = toml::to_string(&json).map_err(|e| Error::input(label, "<dict>", e.to_string()))?;
     from_toml_str(&toml_text, label, overrides)
+}
+
+/// `null` means "absent" (TOML has no null).
+fn drop_nulls(v: &mut serde_json::Value) {
+    match v {
+        serde_json::Value::Object(m) => {
+            m.retain(|_, x| !x.is_null());
+            m.values_mut().for_each(drop_nulls);
+        }
+        serde_json::Value::Array(a) => a.iter_mut().for_each(drop_nulls),
+        _ => {}
+    }
 }
 
 fn location(text: &str, span: Option<std::ops::Range<usize>>) -> String {

@@ -533,6 +533,21 @@ pub struct Monitor {
     pub select: MonitorSelect,
     /// Quantities recorded.
     pub quantities: Vec<Quantity>,
+    /// Where displacement and velocity are taken (addition to v1): the block's centroid, or
+    /// the material point at `select.point`.
+    #[serde(default)]
+    pub location: MonitorLocation,
+}
+
+/// Where a monitor takes displacement and velocity.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MonitorLocation {
+    /// Volume-weighted mean over the block (its centroid).
+    #[default]
+    Centroid,
+    /// The material point at `select.point`.
+    Point,
 }
 
 impl Quantity {

@@ -219,6 +219,9 @@ fn monitors(c: &mut Checker, s: &Scenario) {
         if m.quantities.is_empty() {
             c.fail(format!("{p}.quantities"), "name at least one quantity");
         }
+        if m.location == MonitorLocation::Point && !matches!(m.select, MonitorSelect::Point(_)) {
+            c.fail(format!("{p}.location"), "location = \"point\" needs select = { point = [x, y, z] }");
+        }
         if let MonitorSelect::Body(b) = &m.select {
             if !s.body.iter().any(|x| &x.name == b) {
                 c.fail(format!("{p}.select.body"), format!("there is no body named '{b}'"));

@@ -22,7 +22,9 @@ const POLAR_MAX_ITER: usize = 100;
 /// Mean deformation gradient of ME `e`.
 pub fn deformation_gradient(sys: &System, state: &State, e: usize) -> Mat3 {
     let k = sys.kernel(e);
-    sys.covers.elements[e].covers.iter().zip(&k.mean_gradient).map(|(&c, g)| state.x[c] * g.transpose()).sum()
+    // Σ X_a ⊗ ḡ_a = I exactly (linear reproduction), so F = I + Σ u_a ⊗ ḡ_a.
+    let du: Mat3 = sys.covers.elements[e].covers.iter().zip(&k.mean_gradient).map(|(&c, g)| state.u[c] * g.transpose()).sum();
+    Mat3::identity() + du
 }
 
 /// Rotation of ME `e`, warm-started from `guess`.
@@ -33,7 +35,10 @@ pub fn rotation(f: &Mat3, guess: &Mat3) -> Mat3 {
 
 /// Local (co-rotated) displacement of each cover of ME `e`.
 pub fn local_displacements(sys: &System, state: &State, e: usize, r: &Mat3) -> Vec<Vec3> {
-    sys.covers.elements[e].covers.iter().map(|&c| r.transpose() * state.x[c] - sys.covers.covers[c].position).collect()
+    // Rᵀ(X + u) − X = (Rᵀ − I) X + Rᵀ u, which keeps small strains exact far from the origin.
+    let rt = r.transpose();
+    let rt_minus_i = rt - Mat3::identity();
+    sys.covers.elements[e].covers.iter().map(|&c| rt_minus_i * sys.covers.covers[c].position + rt * state.u[c]).collect()
 }
 
 /// Volume-mean Cauchy stress of ME `e` in global axes [Pa], compression negative.

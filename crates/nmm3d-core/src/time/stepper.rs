@@ -156,7 +156,7 @@ impl Stepper {
             }
             let a_new = k.c0 * d[c] - k.c1 * state.v[c] - k.c2 * state.a[c];
             let v_new = state.v[c] + dt * ((1.0 - g) * state.a[c] + g * a_new);
-            state.x[c] += d[c];
+            state.u[c] += d[c];
             (state.v[c], state.a[c]) = if is_static { (Vec3::zeros(), Vec3::zeros()) } else { (v_new, a_new) };
         }
         state.time += dt;

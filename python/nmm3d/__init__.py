@@ -1,0 +1,23 @@
+"""nmm3d: the three-dimensional numerical manifold method for jointed rock.
+
+>>> import nmm3d
+>>> model = nmm3d.load("examples/free_fall.toml")          # doctest: +SKIP
+>>> result = model.run(out="out/free_fall")                 # doctest: +SKIP
+>>> result.history["cube.displacement.z"][-1]               # doctest: +SKIP
+-5.0
+"""
+
+from nmm3d._core import NmmError, OutputError, RunError, ScenarioError, __version__
+from nmm3d.result import Result
+from nmm3d.scenario import Scenario, load
+
+__all__ = [
+    "NmmError",
+    "OutputError",
+    "Result",
+    "RunError",
+    "Scenario",
+    "ScenarioError",
+    "__version__",
+    "load",
+]

@@ -1,0 +1,80 @@
+"""The ``nmm3d`` command line. Exit status: 0 done, 2 invalid input, 1 the run failed."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from nmm3d import _core
+from nmm3d.scenario import load
+
+EXIT_OK, EXIT_FAILED, EXIT_INPUT = 0, 1, 2
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="nmm3d", description="3-D numerical manifold method for jointed rock")
+    p.add_argument("--version", action="version", version=f"nmm3d {_core.__version__}")
+    sub = p.add_subparsers(dest="command", required=True)
+    run = sub.add_parser("run", help="run a scenario and write its outputs")
+    run.add_argument("file", type=Path)
+    run.add_argument("--out", type=Path, required=True, help="output directory")
+    run.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
+                     help="override a scalar or array, e.g. joint.smooth.friction_angle=24")
+    run.add_argument("--quiet", action="store_true", help="no progress line")
+    check = sub.add_parser("check", help="validate a scenario without running it")
+    check.add_argument("file", type=Path)
+    check.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE")
+    plot = sub.add_parser("plot", help="draw the monitored histories of a run to PNG")
+    plot.add_argument("dir", type=Path)
+    plot.add_argument("--out", type=Path, default=None, help="PNG file (default DIR/history.png)")
+    return p
+
+
+def _run(args: argparse.Namespace) -> int:
+    scenario = load(args.file, args.overrides)
+    result = scenario.run(args.out, progress=not args.quiet)
+    s = result.summary
+    line = (f"{s['status']}: {s['message']} — {s['steps']} steps, t = {s['time']:.6g} s, "
+            f"{s['manifold_elements']} MEs, {s['dofs']} DOFs, {s['wall_seconds']:.2f} s wall")
+    if result.completed:
+        print(line)
+        return EXIT_OK
+    print(f"nmm3d: run failed: {s['message']}", file=sys.stderr)
+    print(f"outputs up to the last good step are in {args.out}", file=sys.stderr)
+    return EXIT_FAILED
+
+
+def _check(args: argparse.Namespace) -> int:
+    d = load(args.file, args.overrides).to_dict()
+    print(f"{args.file}: valid ({len(d['body'])} bodies, {len(d['material'])} materials, "
+          f"{len(d['monitor'])} monitors)")
+    return EXIT_OK
+
+
+def _plot(args: argparse.Namespace) -> int:
+    from nmm3d.plot import plot_history
+
+    if not (args.dir / "history.csv").is_file():
+        print(f"nmm3d: {args.dir} has no history.csv (is it a run's output directory?)", file=sys.stderr)
+        return EXIT_INPUT
+    print(plot_history(args.dir, args.out))
+    return EXIT_OK
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point; returns the exit status."""
+    args = _parser().parse_args(argv)
+    handlers = {"run": _run, "check": _check, "plot": _plot}
+    try:
+        return handlers[args.command](args)
+    except _core.ScenarioError as e:
+        print(f"nmm3d: invalid input:\n{e}", file=sys.stderr)
+        return EXIT_INPUT
+    except _core.NmmError as e:
+        print(f"nmm3d: {e}", file=sys.stderr)
+        return EXIT_FAILED
+
+
+if __name__ == "__main__":
+    sys.exit(main())
