@@ -6,9 +6,10 @@ use std::time::Instant;
 
 use nmm3d_geom::Vec3;
 
+use crate::assembly::assembler::masters_of;
 use crate::assembly::{Assembler, DofMap, SparsityPattern};
 use crate::cover::pattern::parity;
-use crate::cover::{Covers, MathMesh, PatternTable};
+use crate::cover::{aggregation, Covers, MathMesh, PatternTable};
 use crate::element::{element_kernel, loads, penalty, ElementKernel, PointConstraint};
 use crate::error::{Error, Result};
 use crate::model::Geometry;
@@ -68,9 +69,12 @@ impl System {
             None => (vec![Vec::new(); covers.elements.len()], vec![[0.0; 6]; covers.elements.len()]),
         };
         let fixed_block: Vec<bool> = geometry.blocks.iter().map(|b| b.fixed).collect();
-        let dofs = DofMap::new(covers.covers.iter().map(|c| !fixed_block[c.block]));
+        let tied = aggregation::tie_ill_posed(&covers, &fixed_block, scenario.cover.aggregation_threshold);
+        let fixed: Vec<bool> = covers.covers.iter().map(|c| fixed_block[c.block]).collect();
+        let dofs = DofMap::new(&fixed, &tied);
         let cliques: Vec<&[usize]> = covers.elements.iter().map(|e| e.covers.as_slice()).collect();
-        let pattern = SparsityPattern::from_cliques(&dofs, covers.covers.len(), cliques.iter().copied());
+        let master_cliques: Vec<Vec<usize>> = cliques.iter().map(|c| masters_of(&dofs, c).0).collect();
+        let pattern = SparsityPattern::from_cliques(&dofs, covers.covers.len(), master_cliques.iter().map(|c| c.as_slice()));
         let assembler = Assembler::new(pattern, &dofs, &cliques);
         let mut mass_values = vec![0.0; assembler.pattern.nnz()];
         for (e, me) in covers.elements.iter().enumerate() {
@@ -142,7 +146,7 @@ impl System {
         for (i, sl) in self.scenario.surface_load.clone().iter().enumerate() {
             let mut hit = false;
             for me in &self.covers.elements {
-                if let Some(ints) = loads::boundary_face_integrals(&self.covers, me, &sl.select) {
+                if let Some(ints) = loads::boundary_face_integrals(&self.covers, me, &sl.select, sl.normal.map(Vec3::from)) {
                     hit = true;
                     for (a, &c) in me.covers.iter().enumerate() {
                         self.external[c] += ints[a] * Vec3::from(sl.traction);
@@ -150,7 +154,7 @@ impl System {
                 }
             }
             if !hit {
-                return Err(Error::input(label, format!("surface_load[{i}].select"), "no block boundary face has its centroid in the region"));
+                return Err(Error::input(label, format!("surface_load[{i}].select"), "no block boundary face lies in the region (facing `normal`, if given)"));
             }
         }
         Ok(())

@@ -1,5 +1,6 @@
-//! Scatter of local (3n × 3n) blocks into the global lower-triangular matrix, through maps
-//! precomputed per ME, so the hot loop is an indexed add.
+//! Scatter of local (3n × 3n) blocks into the global lower-triangular matrix through maps
+//! precomputed per ME, so the hot loop is an indexed add. An ME with tied covers first maps
+//! its block through T (n × m weights over its m free masters): L' = Tᵀ L T.
 
 use super::dof_map::DofMap;
 use super::sparsity::SparsityPattern;
@@ -11,18 +12,47 @@ pub struct Assembler {
     pub pattern: SparsityPattern,
     offsets: Vec<usize>,
     targets: Vec<u32>,
+    /// Per ME: (number of masters m, T row-major n × m) when it has tied covers.
+    transforms: Vec<Option<(usize, Vec<f64>)>>,
 }
 
 const SKIP: u32 = u32::MAX;
+
+/// The free covers an ME couples, and T when any of its covers is tied.
+pub fn masters_of(dofs: &DofMap, covers: &[usize]) -> (Vec<usize>, Option<Vec<f64>>) {
+    if !covers.iter().any(|&c| matches!(dofs.kind[c], super::dof_map::CoverDofs::Tied(_))) {
+        return (covers.to_vec(), None);
+    }
+    let mut masters: Vec<usize> = Vec::new();
+    for &c in covers {
+        for (m, _) in dofs.masters(c) {
+            if !masters.contains(&m) {
+                masters.push(m);
+            }
+        }
+    }
+    let m = masters.len();
+    let mut t = vec![0.0; covers.len() * m];
+    for (a, &c) in covers.iter().enumerate() {
+        for (mc, w) in dofs.masters(c) {
+            let p = masters.iter().position(|&x| x == mc).expect("listed");
+            t[a * m + p] += w;
+        }
+    }
+    (masters, Some(t))
+}
 
 impl Assembler {
     /// Maps for the given cover lists (one per ME).
     pub fn new(pattern: SparsityPattern, dofs: &DofMap, elements: &[&[usize]]) -> Self {
         let mut offsets = Vec::with_capacity(elements.len() + 1);
         let mut targets = Vec::new();
+        let mut transforms = Vec::with_capacity(elements.len());
         for covers in elements {
             offsets.push(targets.len());
-            let eqs: Vec<Option<usize>> = covers.iter().flat_map(|&c| (0..3).map(move |i| dofs.eq(c, i))).collect();
+            let (masters, t) = masters_of(dofs, covers);
+            transforms.push(t.map(|t| (masters.len(), t)));
+            let eqs: Vec<Option<usize>> = masters.iter().flat_map(|&c| (0..3).map(move |i| dofs.eq(c, i))).collect();
             for r in &eqs {
                 for c in &eqs {
                     let t = match (r, c) {
@@ -34,13 +64,21 @@ impl Assembler {
             }
         }
         offsets.push(targets.len());
-        Self { pattern, offsets, targets }
+        Self { pattern, offsets, targets, transforms }
     }
 
     /// values += local (row-major, size (3n)²) of element `e`.
     #[inline]
     pub fn add(&self, values: &mut [f64], e: usize, local: &[f64]) {
         let t = &self.targets[self.offsets[e]..self.offsets[e + 1]];
+        let mapped;
+        let local = match &self.transforms[e] {
+            None => local,
+            Some((m, tm)) => {
+                mapped = transform(local, tm, *m);
+                &mapped
+            }
+        };
         debug_assert_eq!(t.len(), local.len());
         for (&pos, &v) in t.iter().zip(local) {
             if pos != SKIP {
@@ -48,4 +86,25 @@ impl Assembler {
             }
         }
     }
+}
+
+/// Tᵀ L T for a (3n)² block L and scalar weights T (n × m), applied per 3 × 3 block.
+fn transform(l: &[f64], t: &[f64], m: usize) -> Vec<f64> {
+    let n = t.len() / m;
+    let mut out = vec![0.0; 9 * m * m];
+    for a in 0..n {
+        for b in 0..n {
+            for p in (0..m).filter(|&p| t[a * m + p] != 0.0) {
+                for q in (0..m).filter(|&q| t[b * m + q] != 0.0) {
+                    let w = t[a * m + p] * t[b * m + q];
+                    for i in 0..3 {
+                        for j in 0..3 {
+                            out[(3 * p + i) * 3 * m + 3 * q + j] += w * l[(3 * a + i) * 3 * n + 3 * b + j];
+                        }
+                    }
+                }
+            }
+        }
+    }
+    out
 }

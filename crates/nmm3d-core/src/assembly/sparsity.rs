@@ -1,6 +1,6 @@
 //! Sparsity of the global matrix: lower triangle in compressed sparse columns, from the
-//! cover cliques of the MEs. Built once; values are refilled every step (the symbolic
-//! factorisation is reused while this pattern holds).
+//! cliques of free covers coupled by each ME (tied covers replaced by their masters). Built
+//! once; values are refilled every step (the symbolic factorisation is reused).
 
 use std::collections::BTreeSet;
 
@@ -18,14 +18,16 @@ pub struct SparsityPattern {
 }
 
 impl SparsityPattern {
-    /// Pattern of the union of the cliques (lists of covers coupled together).
+    /// Pattern of the union of the cliques (lists of free covers coupled together).
     pub fn from_cliques<'a>(dofs: &DofMap, n_covers: usize, cliques: impl Iterator<Item = &'a [usize]>) -> Self {
         let mut nbr: Vec<BTreeSet<usize>> = vec![BTreeSet::new(); n_covers];
         for clique in cliques {
-            for &a in clique.iter().filter(|&&a| dofs.eq(a, 0).is_some()) {
-                for &b in clique.iter().filter(|&&b| dofs.eq(b, 0).is_some()) {
-                    if dofs.first[b] >= dofs.first[a] {
-                        let _ = nbr[a].insert(b);
+            for &a in clique {
+                for &b in clique {
+                    if let (Some(ea), Some(eb)) = (dofs.eq(a, 0), dofs.eq(b, 0)) {
+                        if eb >= ea {
+                            let _ = nbr[a].insert(b);
+                        }
                     }
                 }
             }
@@ -34,12 +36,13 @@ impl SparsityPattern {
         let mut col_ptr = vec![0u32; n + 1];
         let mut row_idx = Vec::new();
         let mut order: Vec<usize> = (0..n_covers).filter(|&c| dofs.eq(c, 0).is_some()).collect();
-        order.sort_by_key(|&c| dofs.first[c]);
+        order.sort_by_key(|&c| dofs.eq(c, 0));
         for &c in &order {
-            let mut rows: Vec<usize> = nbr[c].iter().flat_map(|&d| (0..3).map(move |i| dofs.first[d] as usize + i)).collect();
+            let first = dofs.eq(c, 0).expect("free");
+            let mut rows: Vec<usize> = nbr[c].iter().flat_map(|&d| (0..3).map(move |i| dofs.eq(d, i).expect("free"))).collect();
             rows.sort_unstable();
             for j in 0..3 {
-                let col = dofs.first[c] as usize + j;
+                let col = first + j;
                 row_idx.extend(rows.iter().filter(|&&r| r >= col).map(|&r| r as u32));
                 col_ptr[col + 1] = row_idx.len() as u32;
             }

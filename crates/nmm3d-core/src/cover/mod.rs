@@ -1,5 +1,6 @@
 //! The cover system: mathematical mesh and patterns, manifold elements, physical covers.
 
+pub mod aggregation;
 pub mod build;
 pub mod manifold_element;
 pub mod mesh;

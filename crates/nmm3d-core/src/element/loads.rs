@@ -61,17 +61,22 @@ pub fn weights_at(covers: &Covers, e: &ManifoldElement, x: &Vec3) -> Vec<f64> {
     covers.weights(e).iter().map(|w| w.eval(&xi)).collect()
 }
 
-/// ∫_F w_a dA over the ME's boundary faces whose centroid lies in `region`, per node [m²].
-pub fn boundary_face_integrals(covers: &Covers, e: &ManifoldElement, region: &Region) -> Option<Vec<f64>> {
+/// Largest angle between a loaded face's normal and the requested one.
+const NORMAL_TOLERANCE_DEG: f64 = 1.0;
+
+/// ∫_F w_a dA over the ME's boundary faces lying in `region` (every vertex inside) and, when
+/// `normal` is given, facing that way; per node [m²].
+pub fn boundary_face_integrals(covers: &Covers, e: &ManifoldElement, region: &Region, normal: Option<Vec3>) -> Option<Vec<f64>> {
     let Region::Box { min, max } = region;
     let bb = nmm3d_geom::Aabb { min: Vec3::from(*min), max: Vec3::from(*max) };
     let s2 = covers.mesh.size * covers.mesh.size;
     let exps: Vec<_> = (0..TERMS).map(poly::exponent).filter(|e| e.iter().all(|&k| k <= 1)).collect();
     let mut total: Option<Vec<f64>> = None;
+    let cos_tol = NORMAL_TOLERANCE_DEG.to_radians().cos();
     for f in e.local.faces.iter().filter(|f| f.tag.0 < CELL_TAG) {
-        let centroid = nmm3d_geom::polygon::centroid(&f.vertices);
-        let global = covers.mesh.to_global(&(cell_corner(e.cell) + centroid));
-        if !bb.contains(&global, 1e-9 * covers.mesh.size) {
+        let inside = f.vertices.iter().all(|v| bb.contains(&covers.mesh.to_global(&(cell_corner(e.cell) + v)), 1e-9 * covers.mesh.size));
+        let facing = normal.is_none_or(|n| (covers.mesh.rotation * f.area_vector()).normalize().dot(&n.normalize()) >= cos_tol);
+        if !inside || !facing {
             continue;
         }
         let vals = integrate::polygon_moments(&f.vertices, &exps);

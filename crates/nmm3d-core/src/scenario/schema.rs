@@ -225,11 +225,14 @@ pub struct CoverSpec {
     pub origin: [f64; 3],
     /// Rotation of the mesh about x, then y, then z [deg].
     pub rotation: [f64; 3],
+    /// An ME smaller than this fraction of its sub-cell does not anchor its covers; covers
+    /// with no anchoring ME are tied to the nearest anchored ME (aggregation) [-]; 0 = off.
+    pub aggregation_threshold: f64,
 }
 
 impl Default for CoverSpec {
     fn default() -> Self {
-        Self { pattern: PatternKind::Tet6, size: None, origin: [0.0; 3], rotation: [0.0; 3] }
+        Self { pattern: PatternKind::Tet6, size: None, origin: [0.0; 3], rotation: [0.0; 3], aggregation_threshold: 0.1 }
     }
 }
 
@@ -477,8 +480,11 @@ pub struct PointLoad {
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SurfaceLoad {
-    /// Region: faces whose centroid lies inside are loaded.
+    /// Region: boundary faces with every vertex inside are loaded.
     pub select: Region,
+    /// Only faces whose outward normal lies within 1° of this direction (optional).
+    #[serde(default)]
+    pub normal: Option<[f64; 3]>,
     /// Traction [Pa].
     pub traction: [f64; 3],
 }

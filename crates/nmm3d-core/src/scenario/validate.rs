@@ -39,6 +39,9 @@ pub fn validate(s: &Scenario, file: &str) -> Result<()> {
     if let Some(size) = s.cover.size {
         c.positive("cover.size", size);
     }
+    if !(0.0..1.0).contains(&s.cover.aggregation_threshold) {
+        c.fail("cover.aggregation_threshold", "must lie in [0, 1)");
+    }
     for (k, v) in [("contact.normal_stiffness", s.contact.normal_stiffness), ("contact.shear_stiffness", s.contact.shear_stiffness)] {
         if let Stiffness::Value(x) = v {
             c.positive(k, x);
@@ -209,6 +212,9 @@ fn loads(c: &mut Checker, s: &Scenario) {
     }
     for (k, x) in s.surface_load.iter().enumerate() {
         region_ok(c, &format!("surface_load[{k}].select"), &x.select);
+        if x.normal.is_some_and(|n| !(n.iter().map(|v| v * v).sum::<f64>() > 0.0)) {
+            c.fail(format!("surface_load[{k}].normal"), "must be a non-zero vector");
+        }
     }
 }
 

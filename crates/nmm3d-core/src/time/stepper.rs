@@ -151,7 +151,7 @@ impl Stepper {
         let g = self.newmark.gamma;
         let is_static = sys.scenario.analysis.kind == AnalysisKind::Static;
         for c in 0..d.len() {
-            if sys.dofs.eq(c, 0).is_none() {
+            if !sys.dofs.moves(c) {
                 continue;
             }
             let a_new = k.c0 * d[c] - k.c1 * state.v[c] - k.c2 * state.a[c];
@@ -224,27 +224,34 @@ fn mass_times(sys: &System, w: &[Vec3]) -> Vec<Vec3> {
     out
 }
 
-/// Largest force magnitude over free covers.
+/// Largest force magnitude on the free equations (tied covers' forces taken by their masters).
 fn scale(sys: &System, f: &[Vec3]) -> f64 {
-    f.iter().enumerate().filter(|(c, _)| sys.dofs.eq(*c, 0).is_some()).map(|(_, v)| v.norm()).fold(0.0, f64::max)
+    gather(sys, f).chunks(3).map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()).fold(0.0, f64::max)
 }
 
-/// Per-cover vectors → equation vector.
+/// Per-cover forces → equation vector (a tied cover passes its force to its masters, Tᵀ f).
 fn gather(sys: &System, f: &[Vec3]) -> Vec<f64> {
     let mut out = vec![0.0; sys.n_eq()];
     for (c, v) in f.iter().enumerate() {
-        if let Some(e) = sys.dofs.eq(c, 0) {
-            out[e..e + 3].copy_from_slice(v.as_slice());
+        for (m, w) in sys.dofs.masters(c) {
+            let e = sys.dofs.eq(m, 0).expect("masters are free");
+            for i in 0..3 {
+                out[e + i] += w * v[i];
+            }
         }
     }
     out
 }
 
-/// Equation vector → per-cover vectors (fixed covers untouched).
+/// Equation vector → per-cover vectors (tied covers interpolated, fixed covers untouched).
 fn scatter_into(sys: &System, x: &[f64], out: &mut [Vec3]) {
+    let at = |c: usize| {
+        let e = sys.dofs.eq(c, 0).expect("free");
+        Vec3::new(x[e], x[e + 1], x[e + 2])
+    };
     for (c, o) in out.iter_mut().enumerate() {
-        if let Some(e) = sys.dofs.eq(c, 0) {
-            *o = Vec3::new(x[e], x[e + 1], x[e + 2]);
+        if sys.dofs.moves(c) {
+            *o = sys.dofs.masters(c).iter().map(|&(m, w)| w * at(m)).sum();
         }
     }
 }

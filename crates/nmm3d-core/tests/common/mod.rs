@@ -29,3 +29,34 @@ pub fn run_ok(text: &str, name: &str) -> RunOutcome {
 pub fn final_value(out: &RunOutcome, key: &str) -> f64 {
     out.summary["final"][key].as_f64().unwrap_or_else(|| panic!("no final value {key}"))
 }
+
+use nmm3d_core::state::State;
+use nmm3d_core::system::System;
+use nmm3d_core::time::Stepper;
+
+/// Step a static scenario to equilibrium and return the system and final state.
+pub fn solve_static(text: &str) -> (System, State) {
+    let sys = System::build(scenario(text), "<test>").unwrap_or_else(|e| panic!("{e}"));
+    let mut state = State::initial(&sys);
+    let mut stepper = Stepper::new(&sys);
+    stepper.initialize(&sys, &mut state).unwrap();
+    let tol = sys.scenario.analysis.equilibrium_tolerance;
+    for _ in 0..sys.scenario.analysis.max_steps {
+        let r = stepper.step(&sys, &mut state, 1e30).unwrap_or_else(|e| panic!("{e}"));
+        if state.step > 1 && r.unbalanced <= tol {
+            return (sys, state);
+        }
+    }
+    panic!("no equilibrium within max_steps");
+}
+
+/// Deterministic pseudo-random numbers in [0, 1) (64-bit LCG, seeded).
+pub struct Lcg(pub u64);
+
+impl Lcg {
+    /// Next number in [0, 1).
+    pub fn next(&mut self) -> f64 {
+        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
