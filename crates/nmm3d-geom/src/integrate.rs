@@ -26,6 +26,17 @@ fn factorial(n: usize) -> f64 {
     (1..=n).map(|k| k as f64).product()
 }
 
+/// n! for n ≤ 20 (exact in f64 up to 18!).
+const FACT: [f64; 21] = {
+    let mut f = [1.0; 21];
+    let mut i = 1;
+    while i < 21 {
+        f[i] = f[i - 1] * i as f64;
+        i += 1;
+    }
+    f
+};
+
 /// All ways to write `k` as an ordered sum of `parts` non-negative integers.
 fn compositions(k: u8, parts: usize) -> Vec<Vec<u8>> {
     if parts == 1 {
@@ -41,24 +52,37 @@ fn compositions(k: u8, parts: usize) -> Vec<Vec<u8>> {
     out
 }
 
+/// Largest exponent per axis with precomputed compositions (beyond it they are built on demand).
+const TABLE_MAX: u8 = 6;
+
+/// Compositions of k ≤ `TABLE_MAX` into 3 (triangles) or 4 (tetrahedra) parts, built once.
+fn composition_table(k: u8, parts: usize) -> std::borrow::Cow<'static, [Vec<u8>]> {
+    use std::sync::OnceLock;
+    static TABLE: OnceLock<[Vec<Vec<Vec<u8>>>; 2]> = OnceLock::new();
+    if k > TABLE_MAX || !(3..=4).contains(&parts) {
+        return std::borrow::Cow::Owned(compositions(k, parts));
+    }
+    let t = TABLE.get_or_init(|| [3, 4].map(|p| (0..=TABLE_MAX).map(|k| compositions(k, p)).collect()));
+    std::borrow::Cow::Borrowed(&t[parts - 3][k as usize])
+}
+
 /// $\int_T x^a y^b z^c$ over the simplex with the given vertices (3 for a triangle, 4 for a
 /// tetrahedron) and measure `measure` (area or signed volume). Exact for any degree.
 pub fn simplex_monomial(vertices: &[Vec3], measure: f64, e: Exponent) -> f64 {
     let d = vertices.len() - 1;
     let n = (e[0] + e[1] + e[2]) as usize;
-    let cx = compositions(e[0], d + 1);
-    let cy = compositions(e[1], d + 1);
-    let cz = compositions(e[2], d + 1);
+    let cx = composition_table(e[0], d + 1);
+    let cy = composition_table(e[1], d + 1);
+    let cz = composition_table(e[2], d + 1);
     let mut sum = 0.0;
-    for bx in &cx {
-        for by in &cy {
-            for bz in &cz {
+    for bx in cx.iter() {
+        for by in cy.iter() {
+            for bz in cz.iter() {
                 let mut term = 1.0;
                 for (j, v) in vertices.iter().enumerate() {
-                    let (p, q, r) = (bx[j] as i32, by[j] as i32, bz[j] as i32);
-                    let multinomial = factorial((p + q + r) as usize)
-                        / (factorial(p as usize) * factorial(q as usize) * factorial(r as usize));
-                    term *= multinomial * v.x.powi(p) * v.y.powi(q) * v.z.powi(r);
+                    let (p, q, r) = (bx[j] as usize, by[j] as usize, bz[j] as usize);
+                    let multinomial = FACT[p + q + r] / (FACT[p] * FACT[q] * FACT[r]);
+                    term *= multinomial * v.x.powi(p as i32) * v.y.powi(q as i32) * v.z.powi(r as i32);
                 }
                 sum += term;
             }

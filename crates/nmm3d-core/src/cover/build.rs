@@ -32,6 +32,8 @@ pub struct Covers {
 
 /// Relative tolerance of the "cell strictly inside the piece" test (× piece diagonal).
 const FULL_CELL_TOLERANCE: f64 = 1e-10;
+/// A clipped piece within this relative volume of its sub-cell is the whole sub-cell.
+const WHOLE_TOLERANCE: f64 = 1e-13;
 
 impl Covers {
     /// Build MEs and physical covers of every block.
@@ -130,7 +132,11 @@ fn block_elements(
                             clip_to_subcell(&local, sub, c)
                         };
                         let Some(g) = geom else { continue };
-                        let m = if full { full_moments[parity(cell)][si] } else { moments(&g, pattern) };
+                        let whole = full_moments[parity(cell)][si];
+                        // A clipped piece with the whole sub-cell's volume is the sub-cell (only its
+                        // faces on the block boundary are tagged differently): reuse its moments.
+                        let is_whole = full || (g.volume() - whole[0]).abs() <= WHOLE_TOLERANCE * whole[0];
+                        let m = if is_whole { whole } else { moments(&g, pattern) };
                         out.push(ManifoldElement {
                             block: b,
                             cell,
@@ -138,7 +144,7 @@ fn block_elements(
                             covers: Vec::new(),
                             volume: m[0] * s3,
                             local: g,
-                            full,
+                            full: is_whole,
                             moments: m,
                         });
                     }

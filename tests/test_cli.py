@@ -1,0 +1,145 @@
+"""The command line: exit codes 0 / 1 / 2, messages naming file, key path and reason."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from conftest import EXAMPLES
+
+GOOD = """
+[analysis]
+duration = 0.05
+dt = 0.01
+max_displacement_ratio = 0.01
+gravity = [0.0, 0.0, -10.0]
+
+[cover]
+size = 0.5
+
+[[material]]
+name = "rock"
+density = 2500.0
+young = 1.0e9
+poisson = 0.25
+
+[[body]]
+name = "cube"
+material = "rock"
+shape = { box = { min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0] } }
+
+[[monitor]]
+name = "cube"
+select = { body = "cube" }
+quantities = ["displacement"]
+"""
+
+
+def nmm3d(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "nmm3d", *args], capture_output=True, text=True, timeout=600)
+
+
+def write(tmp_path: Path, text: str) -> Path:
+    p = tmp_path / "scenario.toml"
+    p.write_text(text)
+    return p
+
+
+def test_run_writes_every_output(tmp_path):
+    out = tmp_path / "out"
+    r = nmm3d("run", str(write(tmp_path, GOOD)), "--out", str(out))
+    assert r.returncode == 0, r.stderr
+    for f in ["summary.json", "history.csv", "blocks.csv", "result.pvd"]:
+        assert (out / f).is_file(), f
+    assert list((out / "frames").glob("*.vtu"))
+    assert not list(out.rglob(".*.partial")), "temporary files left behind"
+    s = json.loads((out / "summary.json").read_text())
+    for key in ["status", "message", "steps", "time", "wall_seconds", "blocks", "manifold_elements",
+                "physical_covers", "dofs", "max_penetration", "timings", "final"]:
+        assert key in s, key
+    assert s["status"] == "completed"
+
+
+def test_set_overrides_and_check(tmp_path):
+    p = write(tmp_path, GOOD)
+    assert nmm3d("check", str(p)).returncode == 0
+    out = tmp_path / "o"
+    r = nmm3d("run", str(p), "--out", str(out), "--set", "analysis.duration=0.1", "--set", "material.rock.young=2e9")
+    assert r.returncode == 0, r.stderr
+    assert json.loads((out / "summary.json").read_text())["time"] == pytest.approx(0.1)
+
+
+BAD = [
+    ("[analysis]\nbogus = 1\n", "analysis.bogus"),
+    ("[analysis]\ndt = \"fast\"\n", "analysis.dt"),
+    ("", None),
+]
+
+
+@pytest.mark.parametrize(
+    "edit, path",
+    [
+        (("[analysis]", "[analysis]\nbogus = 1"), "analysis.bogus"),
+        (("dt = 0.01", "dt = \"fast\""), "analysis.dt"),
+        (("material = \"rock\"", "material = \"granite\""), "body.cube.material"),
+        (("density = 2500.0", "density = 0.0"), "material.rock.density"),
+        (("young = 1.0e9", "young = -1.0"), "material.rock.young"),
+        (("poisson = 0.25", "poisson = 0.5"), "material.rock.poisson"),
+        (("size = 0.5", "size = 0.0"), "cover.size"),
+        (("max = [1.0, 1.0, 1.0]", "max = [0.0, 1.0, 1.0]"), "body.cube.shape.box"),
+        (("select = { body = \"cube\" }", "select = { body = \"ghost\" }"), "monitor.cube.select.body"),
+        (("shape = { box = { min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0] } }",
+          "shape = { polyhedron = { vertices = [[0,0,0],[1,0,0],[0,1,0],[0,0,1]], faces = [[0,1,2],[0,1,3],[0,3,2],[1,2,3]] } }"),
+         "body.cube.shape.polyhedron"),
+    ],
+)
+def test_bad_input_exits_2_naming_file_key_and_reason(tmp_path, edit, path):
+    old, new = edit
+    assert old in GOOD
+    p = write(tmp_path, GOOD.replace(old, new, 1))
+    out = tmp_path / "out"
+    r = nmm3d("run", str(p), "--out", str(out))
+    assert r.returncode == 2, r.stderr
+    assert str(p) in r.stderr and path in r.stderr, r.stderr
+    assert not (out / "summary.json").exists(), "nothing that looks like a result"
+
+
+def test_unreadable_and_malformed_files_exit_2(tmp_path):
+    r = nmm3d("check", str(tmp_path / "missing.toml"))
+    assert r.returncode == 2 and "missing.toml" in r.stderr
+    p = write(tmp_path, "[analysis\nduration = 1\n")
+    r = nmm3d("check", str(p))
+    assert r.returncode == 2 and "line 1" in r.stderr, r.stderr
+
+
+def test_divergence_exits_1_with_valid_outputs(tmp_path):
+    p = write(tmp_path, GOOD.replace("[[material]]", "[[material]]", 1))
+    out = tmp_path / "out"
+    # Displacement ratio far above 1 on the first step, with no room to cut the step.
+    r = nmm3d("run", str(p), "--out", str(out), "--set", "analysis.min_dt_ratio=1", "--set",
+              "analysis.divergence_ratio=2", "--set", "analysis.gravity=[0.0, 0.0, -1.0e6]")
+    assert r.returncode == 1, r.stderr
+    assert "diverged" in r.stderr
+    s = json.loads((out / "summary.json").read_text())
+    assert s["status"] == "failed" and "diverged" in s["message"]
+    assert (out / "history.csv").read_text().count("\n") >= 2
+    assert (out / "result.pvd").is_file()
+
+
+def test_plot_draws_png(tmp_path):
+    out = tmp_path / "out"
+    assert nmm3d("run", str(write(tmp_path, GOOD)), "--out", str(out)).returncode == 0
+    r = nmm3d("plot", str(out))
+    assert r.returncode == 0, r.stderr
+    png = out / "history.png"
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_examples_validate():
+    for f in sorted(EXAMPLES.glob("*.toml")):
+        r = nmm3d("check", str(f))
+        assert r.returncode == 0, f"{f}: {r.stderr}"
