@@ -1,50 +1,80 @@
-//! Supernodal sparse Cholesky (faer) with its fill-reducing AMD ordering; the symbolic
-//! factorisation is computed once and reused for every numeric factorisation.
+//! Supernodal sparse Cholesky (faer) with a fill-reducing ordering (METIS nested dissection
+//! for large systems, faer's AMD otherwise). The symbolic factorisation is computed once and
+//! reused for every numeric factorisation while the pattern holds.
 //! Runs sequentially (`Par::Seq`): results do not depend on the thread count, and on two
 //! cores threads did not speed faer up (`research/ecosystem.md` §3).
 
 use std::time::Instant;
 
-use faer::linalg::solvers::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::perm::PermRef;
+use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, LltRef, SymbolicCholesky, SymmetricOrdering};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-use faer::{MatMut, Side};
+use faer::{Conj, MatMut, Par, Side};
 
+use super::ordering::{nested_dissection, Permutation};
 use super::LinearSolver;
 use crate::assembly::SparsityPattern;
 
 /// faer's sparse LLᵀ.
 #[derive(Default)]
 pub struct FaerCholesky {
-    symbolic: Option<SymbolicLlt<u32>>,
-    numeric: Option<Llt<u32, f64>>,
+    symbolic: Option<SymbolicCholesky<u32>>,
+    values: Vec<f64>,
+    ordering: Option<&'static str>,
     symbolic_seconds: f64,
     numeric_seconds: f64,
 }
 
+impl FaerCholesky {
+    /// "nested dissection" or "amd" once the symbolic factorisation exists.
+    pub fn ordering(&self) -> Option<&'static str> {
+        self.ordering
+    }
+
+    fn analyse(&mut self, p: &SparsityPattern) -> Result<(), String> {
+        let t = Instant::now();
+        let sym = SymbolicSparseColMatRef::new_checked(p.n, p.n, &p.col_ptr, None, &p.row_idx);
+        let nd: Option<Permutation> = nested_dissection(p);
+        let ord = match &nd {
+            Some(perm) => SymmetricOrdering::Custom(PermRef::new_checked(&perm.forward, &perm.inverse, p.n)),
+            None => SymmetricOrdering::Amd,
+        };
+        self.ordering = Some(if nd.is_some() { "nested dissection" } else { "amd" });
+        let s = factorize_symbolic_cholesky(sym, Side::Lower, ord, Default::default()).map_err(|e| format!("{e:?}"))?;
+        self.values = vec![0.0; s.len_val()];
+        self.symbolic = Some(s);
+        self.symbolic_seconds += t.elapsed().as_secs_f64();
+        Ok(())
+    }
+}
+
 impl LinearSolver for FaerCholesky {
     fn factorize(&mut self, p: &SparsityPattern, values: &[f64]) -> Result<(), String> {
-        faer::set_global_parallelism(faer::Par::Seq);
-        let sym = SymbolicSparseColMatRef::new_checked(p.n, p.n, &p.col_ptr, None, &p.row_idx);
         if self.symbolic.is_none() {
-            let t = Instant::now();
-            self.symbolic = Some(SymbolicLlt::try_new(sym, Side::Lower).map_err(|e| format!("{e:?}"))?);
-            self.symbolic_seconds += t.elapsed().as_secs_f64();
+            self.analyse(p)?;
         }
         let t = Instant::now();
+        let s = self.symbolic.as_ref().expect("analysed above");
+        let sym = SymbolicSparseColMatRef::new_checked(p.n, p.n, &p.col_ptr, None, &p.row_idx);
         let mat = SparseColMatRef::new(sym, values);
-        let symbolic = self.symbolic.clone().expect("set above");
-        let llt = Llt::try_new_with_symbolic(symbolic, mat, Side::Lower)
+        let mut mem = MemBuffer::new(s.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()));
+        s.factorize_numeric_llt::<f64>(&mut self.values, mat, Side::Lower, Default::default(), Par::Seq, MemStack::new(&mut mem), Default::default())
             .map_err(|e| format!("the system matrix is not positive definite ({e:?}): a body may be free to move without inertia, or a penalty may be far too large"))?;
-        self.numeric = Some(llt);
         self.numeric_seconds += t.elapsed().as_secs_f64();
         Ok(())
     }
 
     fn solve(&self, rhs: &mut [f64]) {
         let n = rhs.len();
-        let llt = self.numeric.as_ref().expect("factorize before solve");
-        llt.solve_in_place(MatMut::from_column_major_slice_mut(rhs, n, 1));
+        let s = self.symbolic.as_ref().expect("factorize before solve");
+        let mut mem = MemBuffer::new(s.solve_in_place_scratch::<f64>(1, Par::Seq));
+        LltRef::<'_, u32, f64>::new(s, &self.values).solve_in_place_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(rhs, n, 1),
+            Par::Seq,
+            MemStack::new(&mut mem),
+        );
     }
 
     fn timings(&self) -> (f64, f64) {

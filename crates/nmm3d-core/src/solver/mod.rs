@@ -2,6 +2,7 @@
 //! iterative PCG, PETSc for one huge model) can be added without touching the stepper.
 
 mod faer_cholesky;
+pub mod ordering;
 
 pub use faer_cholesky::FaerCholesky;
 
