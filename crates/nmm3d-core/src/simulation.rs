@@ -113,7 +113,12 @@ struct Recorder {
     last_unbalanced: f64,
     cuts: u64,
     output_seconds: f64,
+    last_history_write: Instant,
 }
+
+/// Wall-clock seconds between rewrites of `history.csv` during a run, so long runs can be
+/// followed and a crash loses little.
+const HISTORY_FLUSH_SECONDS: f64 = 10.0;
 
 impl Recorder {
     fn new(_sys: &System, monitors: Vec<MonitorPlan>, out: &Path) -> Self {
@@ -129,6 +134,7 @@ impl Recorder {
             last_unbalanced: f64::NAN,
             cuts: 0,
             output_seconds: 0.0,
+            last_history_write: Instant::now(),
         }
     }
 
@@ -148,6 +154,9 @@ impl Recorder {
             if a.output_interval > 0.0 {
                 self.next_frame = (state.time / a.output_interval + 1e-9).floor() * a.output_interval + a.output_interval;
             }
+        } else if self.last_history_write.elapsed().as_secs_f64() > HISTORY_FLUSH_SECONDS {
+            self.history.write(&self.out)?;
+            self.last_history_write = Instant::now();
         }
         self.output_seconds += t.elapsed().as_secs_f64();
         Ok(())

@@ -45,27 +45,44 @@ pub fn local_displacements(sys: &System, state: &State, e: usize, r: &Mat3) -> V
 pub fn element_stress(sys: &System, state: &State, e: usize) -> Mat3 {
     let r = state.rotations[e];
     let u = local_displacements(sys, state, e, &r);
-    let k = sys.kernel(e);
-    let grad: Mat3 = u.iter().zip(&k.mean_gradient).map(|(ua, g)| ua * g.transpose()).sum();
-    let strain = 0.5 * (grad + grad.transpose());
-    let mat = &sys.geometry.materials[sys.geometry.blocks[sys.covers.elements[e].block].material];
-    let local = stress_matrix(&sys.initial_stress[e]) + hooke(mat, &strain);
-    r * local * r.transpose()
+    r * local_stress(sys, e, &u) * r.transpose()
 }
 
-/// Internal force of ME `e` per cover, and the rotated stiffness (row-major (3n)²).
+/// Co-rotated (local) volume-mean stress of ME `e` from its local displacements.
+fn local_stress(sys: &System, e: usize, u: &[Vec3]) -> Mat3 {
+    let k = sys.kernel(e);
+    let grad: Mat3 = u.iter().zip(&k.mean_gradient).map(|(ua, g)| ua * g.transpose()).sum();
+    let mat = &sys.geometry.materials[sys.geometry.blocks[sys.covers.elements[e].block].material];
+    stress_matrix(&sys.initial_stress[e]) + hooke(mat, &(0.5 * (grad + grad.transpose())))
+}
+
+/// Tensile part of a symmetric stress (negative principal stresses set to zero).
+fn tensile_part(s: &Mat3) -> Mat3 {
+    let eig = nalgebra::SymmetricEigen::new(*s);
+    let pos = eig.eigenvalues.map(|l| l.max(0.0));
+    eig.eigenvectors * Mat3::from_diagonal(&pos) * eig.eigenvectors.transpose()
+}
+
+/// Internal force of ME `e` per cover, and the tangent (row-major (3n)²): the rotated elastic
+/// stiffness plus the geometric (stress) stiffness of the tensile part of the ME's stress,
+/// k_ab = V (mean ∇w_a) · σ⁺ (mean ∇w_b) I. Tension stiffens membranes and
+/// bent plates (large deflections converge); compression is left out so the matrix stays
+/// positive definite. The tangent only steers the iteration: the force is exact either way.
 pub fn internal_force_and_tangent(sys: &System, state: &State, e: usize, r: &Mat3) -> (Vec<Vec3>, Vec<f64>) {
     let k = sys.kernel(e);
     let n = k.n;
     let u = local_displacements(sys, state, e, r);
+    let tension = tensile_part(&local_stress(sys, e, &u));
     let mut f = vec![Vec3::zeros(); n];
     let mut t = vec![0.0; 9 * n * n];
     for a in 0..n {
         let mut fa = if sys.initial_forces[e].is_empty() { Vec3::zeros() } else { sys.initial_forces[e][a] };
+        let ga = tension * k.mean_gradient[a];
         for b in 0..n {
             let kab = block(&k.stiffness, n, a, b);
             fa += kab * u[b];
-            let rot = r * kab * r.transpose();
+            let geometric = k.volume * ga.dot(&k.mean_gradient[b]);
+            let rot = r * kab * r.transpose() + geometric * Mat3::identity();
             for i in 0..3 {
                 for j in 0..3 {
                     t[(3 * a + i) * 3 * n + 3 * b + j] = rot[(i, j)];

@@ -1,0 +1,78 @@
+"""Every example scenario runs; one key number each is checked against its reference.
+
+Heavy examples run coarsened through overrides (the full-size figures are in
+docs/verification.md, produced by bench/verification.py).
+"""
+
+from __future__ import annotations
+
+import pytest
+
+import nmm3d
+from conftest import EXAMPLES
+from nmm3d import analytic
+
+CASES = {
+    "free_fall.toml": [],
+    "spinning_block.toml": ["analysis.duration=0.25"],
+    "bar_patch.toml": [],
+    "hanging_bar.toml": [],
+    "cantilever.toml": [],
+    "cantilever_self_weight.toml": [],
+    "plate_self_weight.toml": ["cover.size=0.1"],
+    "plate_large_deflection.toml": ["cover.size=0.1"],
+}
+
+
+def test_every_example_is_covered():
+    assert sorted(p.name for p in EXAMPLES.glob("*.toml")) == sorted(CASES)
+
+
+@pytest.fixture(scope="module")
+def results(tmp_path_factory):
+    out = {}
+    base = tmp_path_factory.mktemp("examples")
+    for name, overrides in CASES.items():
+        out[name] = nmm3d.load(EXAMPLES / name, overrides).run(out=base / name.removesuffix(".toml"))
+    return out
+
+
+def final(results, name, key):
+    r = results[name]
+    assert r.completed, r.summary["message"]
+    return r.summary["final"][key]
+
+
+def test_free_fall(results):
+    u, _ = analytic.ballistic([0, 0, 0], [0, 0, -10.0], 1.0)
+    assert final(results, "free_fall.toml", "cube.displacement.z") == pytest.approx(u[2], rel=1e-6)
+
+
+def test_spinning_block_keeps_volume(results):
+    assert final(results, "spinning_block.toml", "cube.volume.value") == pytest.approx(1.0, abs=1e-3)
+
+
+def test_bar_patch(results):
+    stretch = final(results, "bar_patch.toml", "end.displacement.x") - final(results, "bar_patch.toml", "start.displacement.x")
+    assert stretch == pytest.approx(analytic.bar_end_load(1e6, 10.0, 10e9), rel=1e-6)
+    assert final(results, "bar_patch.toml", "bar.stress.xx") == pytest.approx(1e6, rel=1e-6)
+
+
+def test_hanging_bar(results):
+    stretch = final(results, "hanging_bar.toml", "top.displacement.z") - final(results, "hanging_bar.toml", "bottom.displacement.z")
+    assert stretch == pytest.approx(analytic.hanging_bar(2500.0, 10.0, 10.0, 10e9), rel=0.01)
+
+
+def test_cantilevers_are_stiff_but_close(results):
+    # tet6 at s = 0.25 m locks in bending (docs/verification.md has the convergence tables).
+    tip = -final(results, "cantilever.toml", "tip.displacement.z")
+    assert 0.75 * 0.04009 < tip < 0.04009
+    tip = -final(results, "cantilever_self_weight.toml", "tip.displacement.z")
+    assert 0.75 * 0.03762 < tip < 0.03762
+
+
+def test_plates(results):
+    w = -final(results, "plate_self_weight.toml", "centre.displacement.z")
+    assert 0.6 * 5.61e-3 < w < 5.61e-3
+    w = -final(results, "plate_large_deflection.toml", "centre.displacement.z")
+    assert 0.25 < w < 0.42
