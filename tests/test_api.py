@@ -61,3 +61,10 @@ def test_with_overrides_returns_a_new_scenario(cube):
     s2 = s.with_overrides("analysis.duration=0.2")
     assert s.to_dict()["analysis"]["duration"] == 0.1
     assert s2.to_dict()["analysis"]["duration"] == 0.2
+
+
+def test_blocks_as_numpy_arrays(cube):
+    b = nmm3d.Scenario.from_dict(cube).blocks()
+    assert b["volume"].tolist() == [1.0]
+    np.testing.assert_allclose([b["centroid_x"][0], b["centroid_y"][0], b["centroid_z"][0]], [0.5, 0.5, 0.5])
+    assert b["body"].tolist() == ["cube"] and b["fixed"].dtype == bool

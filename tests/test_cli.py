@@ -143,3 +143,20 @@ def test_examples_validate():
     for f in sorted(EXAMPLES.glob("*.toml")):
         r = nmm3d("check", str(f))
         assert r.returncode == 0, f"{f}: {r.stderr}"
+
+
+def test_blocks_command_writes_geometry_only(tmp_path):
+    out = tmp_path / "b"
+    r = nmm3d("blocks", str(write(tmp_path, GOOD)), "--out", str(out))
+    assert r.returncode == 0, r.stderr
+    assert "1 blocks" in r.stdout and "total volume 1" in r.stdout
+    assert (out / "blocks.csv").read_text().splitlines()[1].startswith("0,cube,1,")
+    assert (out / "blocks.vtu").is_file() and not (out / "summary.json").exists()
+
+
+def test_diagnostics_are_written_per_step(tmp_path):
+    out = tmp_path / "out"
+    assert nmm3d("run", str(write(tmp_path, GOOD)), "--out", str(out)).returncode == 0
+    lines = (out / "diagnostics.csv").read_text().splitlines()
+    assert lines[0] == "time,step,dt,cuts,displacement_ratio,unbalanced_force_ratio"
+    assert len(lines) == json.loads((out / "summary.json").read_text())["steps"] + 1

@@ -25,6 +25,10 @@ def _parser() -> argparse.ArgumentParser:
     check = sub.add_parser("check", help="validate a scenario without running it")
     check.add_argument("file", type=Path)
     check.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE")
+    blocks = sub.add_parser("blocks", help="cut the rock mass into blocks and write the geometry outputs only")
+    blocks.add_argument("file", type=Path)
+    blocks.add_argument("--out", type=Path, required=True, help="output directory")
+    blocks.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE")
     plot = sub.add_parser("plot", help="draw the monitored histories of a run to PNG")
     plot.add_argument("dir", type=Path)
     plot.add_argument("--out", type=Path, default=None, help="PNG file (default DIR/history.png)")
@@ -52,6 +56,15 @@ def _check(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _blocks(args: argparse.Namespace) -> int:
+    r = load(args.file, args.overrides).write_blocks(args.out)
+    print(f"{r['blocks']} blocks, total volume {r['total_volume']:.6g} m³ "
+          f"(mean {r['mean_volume']:.6g}, min {r['min_volume']:.6g}, max {r['max_volume']:.6g} m³); "
+          f"smallest block: id {r['smallest_block']}; excavated volume {r['excavated_volume']:.6g} m³")
+    print(f"wrote {args.out / 'blocks.csv'} and {args.out / 'blocks.vtu'}")
+    return EXIT_OK
+
+
 def _plot(args: argparse.Namespace) -> int:
     from nmm3d.plot import plot_history
 
@@ -65,7 +78,7 @@ def _plot(args: argparse.Namespace) -> int:
 def main(argv: list[str] | None = None) -> int:
     """Entry point; returns the exit status."""
     args = _parser().parse_args(argv)
-    handlers = {"run": _run, "check": _check, "plot": _plot}
+    handlers = {"run": _run, "check": _check, "blocks": _blocks, "plot": _plot}
     try:
         return handlers[args.command](args)
     except _core.ScenarioError as e:

@@ -7,6 +7,8 @@ import os
 from pathlib import Path
 from typing import Any, Iterable
 
+import numpy as np
+
 from nmm3d import _core
 from nmm3d.result import Result
 
@@ -44,6 +46,18 @@ class Scenario:
         """
         _core.run_json(self._json, self.label, os.fspath(out), progress)
         return Result(Path(out))
+
+    def blocks(self) -> dict[str, np.ndarray]:
+        """The blocks this scenario makes, as arrays keyed like ``blocks.csv``."""
+        table = json.loads(_core.blocks_json(self._json, self.label))
+        out = {k: np.asarray(v) for k, v in table.items()}
+        out["fixed"] = out["fixed"].astype(bool)
+        return out
+
+    def write_blocks(self, out: str | os.PathLike[str]) -> dict[str, Any]:
+        """Write ``blocks.csv`` and ``blocks.vtu`` to ``out``; returns the report (count,
+        volume statistics, smallest block, excavated volume)."""
+        return json.loads(_core.blocks_json(self._json, self.label, os.fspath(out)))
 
     def __repr__(self) -> str:
         d = self.to_dict()

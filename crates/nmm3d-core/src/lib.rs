@@ -13,6 +13,7 @@
 #![warn(missing_docs)]
 
 pub mod assembly;
+pub mod blocks;
 pub mod cover;
 pub mod element;
 pub mod error;

@@ -86,6 +86,7 @@ fn advance(sys: &System, state: &mut State, stepper: &mut Stepper, rec: &mut Rec
         let report = stepper.step(sys, state, cap)?;
         rec.last_unbalanced = report.unbalanced;
         rec.cuts += report.cuts as u64;
+        rec.diagnostics.push((state.time, state.step, report));
         if state.u.iter().any(|x| !x.iter().all(|c| c.is_finite())) {
             return Err(Error::Diverged { step: state.step, time: state.time, reason: "a displacement is not finite".into() });
         }
@@ -105,6 +106,7 @@ fn advance(sys: &System, state: &mut State, stepper: &mut Stepper, rec: &mut Rec
 struct Recorder {
     monitors: Vec<MonitorPlan>,
     history: tables::History,
+    diagnostics: Vec<(f64, u64, crate::time::StepReport)>,
     frames: Vec<(f64, String)>,
     out: PathBuf,
     next_history: f64,
@@ -126,6 +128,7 @@ impl Recorder {
         Self {
             monitors,
             history: tables::History::new(columns),
+            diagnostics: Vec::new(),
             frames: Vec::new(),
             out: out.to_path_buf(),
             next_history: 0.0,
@@ -175,6 +178,7 @@ impl Recorder {
         if self.last_frame_step != Some(state.step) {
             self.frame(sys, state)?;
         }
+        tables::write_diagnostics(&self.out, &self.diagnostics)?;
         self.history.write(&self.out)
     }
 

@@ -38,12 +38,30 @@ fn run_json(py: Python<'_>, text: String, label: String, out: PathBuf, progress:
     Ok(outcome.summary.to_string())
 }
 
+/// Build the blocks of a scenario (JSON text); with `out`, write `blocks.csv` and `blocks.vtu`
+/// there and return the report, else return the block table. JSON text either way.
+#[pyfunction]
+#[pyo3(signature = (text, label, out = None))]
+fn blocks_json(py: Python<'_>, text: String, label: String, out: Option<PathBuf>) -> PyResult<String> {
+    let v = py
+        .detach(|| {
+            let s = scenario::from_json_str(&text, &label, &[])?;
+            match out {
+                Some(dir) => nmm3d_core::blocks::report(&s, &dir),
+                None => Ok(nmm3d_core::blocks::table(&s)),
+            }
+        })
+        .map_err(errors::to_py)?;
+    Ok(v.to_string())
+}
+
 /// The native module `nmm3d._core`.
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(load_file, m)?)?;
     m.add_function(wrap_pyfunction!(load_json, m)?)?;
     m.add_function(wrap_pyfunction!(run_json, m)?)?;
+    m.add_function(wrap_pyfunction!(blocks_json, m)?)?;
     m.add("NmmError", m.py().get_type::<errors::NmmError>())?;
     m.add("ScenarioError", m.py().get_type::<errors::ScenarioError>())?;
     m.add("RunError", m.py().get_type::<errors::RunError>())?;

@@ -10,9 +10,14 @@ use crate::system::System;
 
 /// Write `blocks.csv`: id, body, volume, centroid, fixed.
 pub fn write_blocks(sys: &System, dir: &Path) -> Result<()> {
+    write_block_rows(&sys.scenario, &sys.geometry, dir)
+}
+
+/// `blocks.csv` of a geometry.
+pub fn write_block_rows(scenario: &crate::scenario::Scenario, geometry: &crate::model::Geometry, dir: &Path) -> Result<()> {
     let mut s = String::from("id,body,volume,centroid_x,centroid_y,centroid_z,fixed\n");
-    for (i, b) in sys.geometry.blocks.iter().enumerate() {
-        let body = &sys.scenario.body[b.body].name;
+    for (i, b) in geometry.blocks.iter().enumerate() {
+        let body = &scenario.body[b.body].name;
         let _ = writeln!(s, "{i},{},{},{},{},{},{}", csv_text(body), b.volume, b.centroid.x, b.centroid.y, b.centroid.z, b.fixed);
     }
     atomic::write(&dir.join("blocks.csv"), s.as_bytes())
@@ -54,4 +59,14 @@ impl History {
         }
         atomic::write(&dir.join("history.csv"), s.as_bytes())
     }
+}
+
+/// Write `diagnostics.csv`: per accepted step the time step, the rejected trials, the
+/// displacement ratio and the unbalanced force ratio at the start of the step.
+pub fn write_diagnostics(dir: &Path, rows: &[(f64, u64, crate::time::StepReport)]) -> Result<()> {
+    let mut s = String::from("time,step,dt,cuts,displacement_ratio,unbalanced_force_ratio\n");
+    for (t, step, r) in rows {
+        let _ = writeln!(s, "{t},{step},{},{},{},{}", r.dt, r.cuts, r.ratio, r.unbalanced);
+    }
+    atomic::write(&dir.join("diagnostics.csv"), s.as_bytes())
 }
