@@ -8,7 +8,7 @@
 
 mod common;
 
-use common::solve_static;
+use common::{example, solve_static, with};
 use nmm3d_core::element::kernel::stress_components;
 use nmm3d_core::element::loads::weights_at;
 use nmm3d_core::state::State;
@@ -19,55 +19,8 @@ use nmm3d_geom::Vec3;
 const E: f64 = 10.0e9;
 
 fn bar(pattern: &str, rotation: &str) -> String {
-    format!(
-        r#"
-[analysis]
-kind = "static"
-duration = 1000.0
-dt = 1.0
-max_displacement_ratio = 0.01
-gravity = [0.0, 0.0, 0.0]
-equilibrium_tolerance = 1e-12
-
-[cover]
-pattern = "{pattern}"
-size = 0.5
-rotation = {rotation}
-
-[[material]]
-name = "rock"
-density = 2500.0
-young = {E}
-poisson = 0.25
-
-[[body]]
-name = "bar"
-material = "rock"
-shape = {{ box = {{ min = [0.0, 0.0, 0.0], max = [10.0, 1.0, 1.0] }} }}
-
-[[fixed_point]]
-point = [0.0, 0.0, 0.0]
-directions = ["x", "y", "z"]
-
-[[fixed_point]]
-point = [0.0, 1.0, 0.0]
-directions = ["x", "z"]
-
-[[fixed_point]]
-point = [0.0, 0.0, 1.0]
-directions = ["x"]
-
-[[surface_load]]
-select = {{ box = {{ min = [-0.01, -0.01, -0.01], max = [0.01, 1.01, 1.01] }} }}
-normal = [-1.0, 0.0, 0.0]
-traction = [-1.0e6, 0.0, 0.0]
-
-[[surface_load]]
-select = {{ box = {{ min = [9.99, -0.01, -0.01], max = [10.01, 1.01, 1.01] }} }}
-normal = [1.0, 0.0, 0.0]
-traction = [1.0e6, 0.0, 0.0]
-"#
-    )
+    let text = with(&example("bar_patch.toml"), "pattern = \"tet6\"", &format!("pattern = \"{pattern}\""));
+    with(&text, "rotation = [10.0, 25.0, 40.0]", &format!("rotation = {rotation}"))
 }
 
 fn displacement_at(sys: &System, state: &State, p: Vec3) -> Vec3 {
@@ -102,42 +55,7 @@ fn hanging_bar_stretch(rho: f64, g: f64, l: f64, e: f64) -> f64 {
 
 #[test]
 fn hanging_bar_under_self_weight() {
-    let text = r#"
-[analysis]
-kind = "static"
-duration = 1000.0
-dt = 1.0
-max_displacement_ratio = 0.01
-gravity = [0.0, 0.0, -10.0]
-equilibrium_tolerance = 1e-10
-
-[cover]
-pattern = "hex8"
-size = 0.5
-
-[[material]]
-name = "rock"
-density = 2500.0
-young = 10.0e9
-poisson = 0.25
-
-[[body]]
-name = "bar"
-material = "rock"
-shape = { box = { min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 10.0] } }
-
-[[constraint]]
-select = { box = { min = [-0.01, -0.01, 9.99], max = [1.01, 1.01, 10.01] } }
-directions = ["z"]
-
-[[fixed_point]]
-point = [0.0, 0.0, 10.0]
-directions = ["x", "y"]
-
-[[fixed_point]]
-point = [1.0, 0.0, 10.0]
-directions = ["y"]
-"#;
+    let text = example("hanging_bar.toml");
     for pattern in ["hex8", "tet24", "tet6"] {
         let (sys, state) = solve_static(&text.replace("pattern = \"hex8\"", &format!("pattern = \"{pattern}\"")));
         let top = displacement_at(&sys, &state, Vec3::new(0.5, 0.5, 10.0)).z;

@@ -1,13 +1,14 @@
 //! Verification (a): free fall and ballistic flight of a 1 m cube.
 //!
 //! Source: `verification-cases.md` (a); closed form u(t) = v₀t + ½gt², v(t) = v₀ + gt.
-//! Setup: ρ = 2500, g = 10 m/s², no contact, every pattern with a rotated cover.
+//! Setup: `examples/free_fall.toml` (ρ = 2500, g = 10 m/s², no contact), every pattern, the
+//! cover rotated by (20°, 35°, −10°).
 //! Tolerance: 1e-6 relative at t = 1 s. The DDA scheme integrates constant acceleration
 //! exactly, so anything beyond round-off is a bug. Stress must stay ≈ 0.
 
 mod common;
 
-use common::{final_value, run_ok};
+use common::{example, final_value, run_ok, with};
 
 /// u(t) = v₀ t + ½ g t².
 fn ballistic(v0: [f64; 3], g: [f64; 3], t: f64) -> ([f64; 3], [f64; 3]) {
@@ -16,45 +17,13 @@ fn ballistic(v0: [f64; 3], g: [f64; 3], t: f64) -> ([f64; 3], [f64; 3]) {
     (u, v)
 }
 
-fn cube(pattern: &str, v0: [f64; 3], rotation: &str) -> String {
-    format!(
-        r#"
-[analysis]
-duration = 1.0
-dt = 0.01
-max_displacement_ratio = 0.01
-gravity = [0.0, 0.0, -10.0]
-output_interval = 0.5
-
-[cover]
-pattern = "{pattern}"
-size = 0.4
-origin = [0.05, -0.1, 0.13]
-rotation = {rotation}
-
-[[material]]
-name = "rock"
-density = 2500.0
-young = 1.0e9
-poisson = 0.25
-
-[[body]]
-name = "cube"
-material = "rock"
-velocity = [{}, {}, {}]
-shape = {{ box = {{ min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0] }} }}
-
-[[monitor]]
-name = "cube"
-select = {{ body = "cube" }}
-quantities = ["displacement", "velocity", "stress"]
-"#,
-        v0[0], v0[1], v0[2]
-    )
+fn cube(pattern: &str, v0: [f64; 3]) -> String {
+    let text = with(&example("free_fall.toml"), "pattern = \"tet6\"", &format!("pattern = \"{pattern}\""));
+    with(&text, "velocity = [0.0, 0.0, 0.0]", &format!("velocity = [{}, {}, {}]", v0[0], v0[1], v0[2]))
 }
 
 fn check(pattern: &str, v0: [f64; 3]) {
-    let out = run_ok(&cube(pattern, v0, "[20.0, 35.0, -10.0]"), &format!("free_fall_{pattern}_{}", v0[2]));
+    let out = run_ok(&cube(pattern, v0), &format!("free_fall_{pattern}_{}", v0[2]));
     let (u, v) = ballistic(v0, [0.0, 0.0, -10.0], 1.0);
     let unorm = u.iter().map(|x| x * x).sum::<f64>().sqrt();
     let vnorm = v.iter().map(|x| x * x).sum::<f64>().sqrt();

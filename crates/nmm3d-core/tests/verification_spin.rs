@@ -6,42 +6,11 @@
 
 mod common;
 
-use common::{final_value, run_ok};
+use common::{example, final_value, run_ok, with};
 
 fn spinning(pattern: &str, duration: f64) -> String {
-    format!(
-        r#"
-[analysis]
-duration = {duration}
-dt = 0.001
-max_displacement_ratio = 0.004
-gravity = [0.0, 0.0, 0.0]
-output_interval = 0.0
-history_interval = 0.25
-
-[cover]
-pattern = "{pattern}"
-size = 0.5
-rotation = [0.0, 0.0, 17.0]
-
-[[material]]
-name = "rock"
-density = 2500.0
-young = 10.0e9
-poisson = 0.25
-
-[[body]]
-name = "cube"
-material = "rock"
-angular_velocity = [0.0, 0.0, 6.283185307179586]
-shape = {{ box = {{ min = [-0.5, -0.5, -0.5], max = [0.5, 0.5, 0.5] }} }}
-
-[[monitor]]
-name = "cube"
-select = {{ body = "cube" }}
-quantities = ["volume", "rotation", "stress"]
-"#
-    )
+    let text = with(&example("spinning_block.toml"), "pattern = \"tet6\"", &format!("pattern = \"{pattern}\""));
+    with(&text, "duration = 1.0", &format!("duration = {duration}"))
 }
 
 #[test]

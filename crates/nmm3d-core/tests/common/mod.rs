@@ -60,3 +60,15 @@ impl Lcg {
         (self.0 >> 11) as f64 / (1u64 << 53) as f64
     }
 }
+
+/// Text of an example scenario in `examples/`.
+pub fn example(name: &str) -> String {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples").join(name);
+    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// `text` with `old` replaced by `new`, which must occur.
+pub fn with(text: &str, old: &str, new: &str) -> String {
+    assert!(text.contains(old), "'{old}' is not in the scenario");
+    text.replacen(old, new, 1)
+}
