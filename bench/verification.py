@@ -153,7 +153,7 @@ def plate(rep: Report) -> None:
     kirchhoff = analytic.kirchhoff_plate_corners(12.0 * 10.0 * 0.1, 2.0, 0.1, 10e6, 0.3)
     ref = 5.61e-3
     rows = []
-    for p, sizes in (("hex8", (0.1, 0.05, 0.025)), ("tet24", (0.1, 0.05))):
+    for p, sizes in (("hex8", (0.1, 0.05, 0.025, 0.02)), ("tet24", (0.1, 0.05))):
         for s in sizes:
             r = rep.run("plate_self_weight.toml", f"cover.pattern=\"{p}\"", f"cover.size={s}")
             w = -r.summary["final"]["centre.displacement.z"]
@@ -172,14 +172,21 @@ def plate(rep: Report) -> None:
               f"The small-strain plate with hex8 covers of 0.05 m turned about z. Spread {spread:.2%} "
               f"(target ≤ 2 %): {mark(spread <= 0.02)}.", ["cover rotation [deg]", "centre deflection [mm]"], rows)
     rows = []
-    for s in (0.1, 0.05):
-        r = rep.run("plate_large_deflection.toml", f"cover.size={s}")
-        w = -r.summary["final"]["centre.displacement.z"]
-        rows.append([str(s), f"{w:.4f}", f"{(w - 0.40) / 0.40:+.1%}", str(r.summary["steps"]), r.summary["message"]])
+    for measure in ("green_lagrange", "corotational"):
+        for s in (0.1, 0.05, 0.025):
+            r = rep.run("plate_large_deflection.toml", f"cover.size={s}", f"analysis.strain_measure=\"{measure}\"")
+            w = -r.summary["final"]["centre.displacement.z"]
+            ok = abs(w - 0.40) <= 0.05 * 0.40
+            rows.append([measure, str(s), f"{r.summary['dofs']:,}", f"{w:.4f}", f"{(w - 0.40) / 0.40:+.1%}",
+                         str(r.summary["steps"]), mark(ok) if measure == "green_lagrange" else "(for comparison)"])
     rep.table("(e) Plate, large deflection (thesis Table 4-1 as printed, E = 10 kPa)",
-              "Vertical corner edges pinned in x, y, z; hex8 covers. Geometrically nonlinear 3-D reference 0.391 / 0.398 / 0.401 m "
-              "(refining), thesis 0.3997 m; target within 5 % of 0.40 m.",
-              ["cover size [m]", "centre deflection [m]", "error vs 0.40 m", "steps", "message"], rows)
+              "Vertical corner edges pinned in x, y, z (every boundary vertex on them held by penalty springs); hex8 covers; "
+              "static, geometry updated every step. Geometrically nonlinear 3-D reference 0.391 / 0.398 / 0.401 m (refining), "
+              "thesis 0.3997 m; target within 5 % of 0.40 m. Strains reach tens of percent next to the pinned corners, so "
+              "the strain measure decides the converged answer: St Venant–Kirchhoff (`strain_measure = \"green_lagrange\"`, the "
+              "example's setting) converges onto the reference; the default co-rotational small-strain measure is softer "
+              "in large tension and drifts above it as the mesh resolves the corners.",
+              ["strain measure", "cover size [m]", "DOFs", "centre deflection [m]", "error vs 0.40 m", "steps", "result"], rows)
 
 
 def main() -> None:

@@ -134,6 +134,20 @@ pub struct Analysis {
     pub target_displacement_ratio: f64,
     /// A run whose displacement ratio exceeds this after the smallest step is diverging [-].
     pub divergence_ratio: f64,
+    /// Strain measure: "corotational" (small strain in each ME's rotated frame) or
+    /// "green_lagrange" (St Venant–Kirchhoff for large strains).
+    pub strain_measure: StrainMeasure,
+}
+
+/// How strain is measured in each manifold element.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StrainMeasure {
+    /// Linear strain in the ME's co-rotated frame: exact for large rotations, small strains.
+    #[default]
+    Corotational,
+    /// Green–Lagrange strain with second Piola–Kirchhoff stress (St Venant–Kirchhoff).
+    GreenLagrange,
 }
 
 impl Default for Analysis {
@@ -157,6 +171,7 @@ impl Default for Analysis {
             max_dt_growth: 1.2,
             target_displacement_ratio: 0.8,
             divergence_ratio: 1e3,
+            strain_measure: StrainMeasure::Corotational,
         }
     }
 }

@@ -45,7 +45,18 @@ pub fn local_displacements(sys: &System, state: &State, e: usize, r: &Mat3) -> V
 pub fn element_stress(sys: &System, state: &State, e: usize) -> Mat3 {
     let r = state.rotations[e];
     let u = local_displacements(sys, state, e, &r);
-    r * local_stress(sys, e, &u) * r.transpose()
+    let corotational = r * local_stress(sys, e, &u) * r.transpose();
+    if sys.scenario.analysis.strain_measure != crate::scenario::StrainMeasure::GreenLagrange {
+        return corotational;
+    }
+    // Replace the linear mean stress by the Cauchy stress F S Fᵀ / J of St Venant–Kirchhoff.
+    let k = sys.kernel(e);
+    let mat = &sys.geometry.materials[sys.geometry.blocks[sys.covers.elements[e].block].material];
+    let f = deformation_gradient(sys, state, e);
+    let green = 0.5 * (f.transpose() * f - Mat3::identity());
+    let grad: Mat3 = u.iter().zip(&k.mean_gradient).map(|(ua, g)| ua * g.transpose()).sum();
+    let linear = r * hooke(mat, &(0.5 * (grad + grad.transpose()))) * r.transpose();
+    corotational - linear + f * hooke(mat, &green) * f.transpose() / f.determinant()
 }
 
 /// Co-rotated (local) volume-mean stress of ME `e` from its local displacements.
@@ -73,6 +84,7 @@ pub fn internal_force_and_tangent(sys: &System, state: &State, e: usize, r: &Mat
     let n = k.n;
     let u = local_displacements(sys, state, e, r);
     let tension = tensile_part(&local_stress(sys, e, &u));
+    let large = large_strain_correction(sys, state, e, r, &u);
     let mut f = vec![Vec3::zeros(); n];
     let mut t = vec![0.0; 9 * n * n];
     for a in 0..n {
@@ -89,9 +101,25 @@ pub fn internal_force_and_tangent(sys: &System, state: &State, e: usize, r: &Mat
                 }
             }
         }
-        f[a] = r * fa;
+        f[a] = r * fa + large.as_ref().map_or(Vec3::zeros(), |c| c * k.mean_gradient[a]);
     }
     (f, t)
+}
+
+/// Green–Lagrange correction V (F̄ S(Ē) − R σ_lin) (per unit mean gradient) of ME `e`: the
+/// mean (constant-strain) part of the element taken to St Venant–Kirchhoff; zero at small
+/// strain, exact SVK for linear covers, bending of hex8 left co-rotational.
+fn large_strain_correction(sys: &System, state: &State, e: usize, r: &Mat3, u: &[Vec3]) -> Option<Mat3> {
+    if sys.scenario.analysis.strain_measure != crate::scenario::StrainMeasure::GreenLagrange {
+        return None;
+    }
+    let k = sys.kernel(e);
+    let mat = &sys.geometry.materials[sys.geometry.blocks[sys.covers.elements[e].block].material];
+    let f = deformation_gradient(sys, state, e);
+    let green = 0.5 * (f.transpose() * f - Mat3::identity());
+    let grad: Mat3 = u.iter().zip(&k.mean_gradient).map(|(ua, g)| ua * g.transpose()).sum();
+    let linear = hooke(mat, &(0.5 * (grad + grad.transpose())));
+    Some(k.volume * (f * hooke(mat, &green) - r * linear))
 }
 
 /// 3 × 3 block (a, b) of a row-major (3n)² matrix.
