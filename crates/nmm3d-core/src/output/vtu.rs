@@ -1,8 +1,11 @@
 //! VTK XML writers: one `.vtu` per frame with every manifold element as a polyhedral cell
 //! (VTK_POLYHEDRON, legacy `faces`/`faceoffsets` layout), `blocks.vtu` with the blocks, and the
-//! `.pvd` collection. ASCII with round-trip number formatting. Frame point data: displacement,
-//! velocity; cell data: block id, ME id, stress (xx, yy, zz, xy, yz, zx; compression negative).
+//! `.pvd` collection. Arrays are raw little-endian binary in the `AppendedData` section (each
+//! block preceded by its UInt64 byte count), which VTK and ParaView read directly. Frame point
+//! data: displacement, velocity; cell data: block id, ME id, stress (xx, yy, zz, xy, yz, zx;
+//! compression negative).
 
+use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -16,64 +19,119 @@ use crate::system::System;
 use crate::time::corotation;
 
 const VTK_POLYHEDRON: u8 = 42;
+/// Vertices of one block closer than this fraction of the cover size are one point.
+const POINT_QUANTUM: f64 = 1e-9;
 
-/// Polyhedral cells being collected.
+fn point_key(block: usize, x: &Vec3, quantum: f64) -> [i64; 4] {
+    [block as i64, (x.x / quantum).round() as i64, (x.y / quantum).round() as i64, (x.z / quantum).round() as i64]
+}
+
+/// Polyhedral cells being collected. Points are shared between cells through a key (block and
+/// quantised reference position), so a frame stores each vertex once per block.
 #[derive(Default)]
 struct Cells {
     points: Vec<Vec3>,
-    conn: Vec<i64>,
-    offsets: Vec<i64>,
-    faces: Vec<i64>,
-    face_offsets: Vec<i64>,
+    keys: HashMap<[i64; 4], i32>,
+    conn: Vec<i32>,
+    offsets: Vec<i32>,
+    faces: Vec<i32>,
+    face_offsets: Vec<i32>,
 }
 
 impl Cells {
-    /// Add a polyhedron whose vertices are placed by `place`; returns its distinct vertices
-    /// (in the polyhedron's own coordinates), in point order.
-    fn push(&mut self, poly: &ConvexPolyhedron, place: impl Fn(&Vec3) -> Vec3) -> Vec<Vec3> {
+    /// Add a polyhedron; each distinct vertex is keyed by `key` and, when new, placed by
+    /// `place`. Returns the vertices (own coordinates) that created new points, in point order.
+    fn push(&mut self, poly: &ConvexPolyhedron, key: impl Fn(&Vec3) -> [i64; 4], place: impl Fn(&Vec3) -> Vec3) -> Vec<Vec3> {
         let verts = poly.vertices();
-        let base = self.points.len();
-        self.points.extend(verts.iter().map(&place));
-        self.conn.extend((base..base + verts.len()).map(|i| i as i64));
-        self.offsets.push(self.conn.len() as i64);
-        self.faces.push(poly.faces.len() as i64);
+        let mut created = Vec::new();
+        let ids: Vec<i32> = verts
+            .iter()
+            .map(|v| {
+                *self.keys.entry(key(v)).or_insert_with(|| {
+                    self.points.push(place(v));
+                    created.push(*v);
+                    (self.points.len() - 1) as i32
+                })
+            })
+            .collect();
+        self.conn.extend(&ids);
+        self.offsets.push(self.conn.len() as i32);
+        self.faces.push(poly.faces.len() as i32);
         let tol = 1e-12 * poly.aabb().diagonal();
         for f in &poly.faces {
-            self.faces.push(f.vertices.len() as i64);
+            self.faces.push(f.vertices.len() as i32);
             for v in &f.vertices {
                 let k = verts.iter().position(|w| (w - v).norm() <= tol).expect("a face vertex is a vertex");
-                self.faces.push((base + k) as i64);
+                self.faces.push(ids[k]);
             }
         }
-        self.face_offsets.push(self.faces.len() as i64);
-        verts
+        self.face_offsets.push(self.faces.len() as i32);
+        created
     }
 
-    fn write(&self, s: &mut String, field_data: &str, point_data: &str, cell_data: &str) {
+    fn write(&self, bin: &mut Appended, field_data: &str, point_data: &str, cell_data: &str) -> Vec<u8> {
+        let mut s = String::new();
         s.push_str("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n");
         let _ = writeln!(s, "<UnstructuredGrid>\n<FieldData>{field_data}</FieldData>");
         let _ = writeln!(s, "<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">", self.points.len(), self.offsets.len());
         let _ = write!(s, "{point_data}{cell_data}<Points>\n");
-        array_vec(s, "Points", &self.points);
+        bin.vec3(&mut s, "Points", &self.points);
         s.push_str("</Points>\n<Cells>\n");
-        array(s, "Int64", "connectivity", 1, self.conn.iter());
-        array(s, "Int64", "offsets", 1, self.offsets.iter());
-        array(s, "UInt8", "types", 1, vec![VTK_POLYHEDRON; self.offsets.len()].iter());
-        array(s, "Int64", "faces", 1, self.faces.iter());
-        array(s, "Int64", "faceoffsets", 1, self.face_offsets.iter());
-        s.push_str("</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
+        bin.i32(&mut s, "connectivity", &self.conn);
+        bin.i32(&mut s, "offsets", &self.offsets);
+        bin.u8(&mut s, "types", &vec![VTK_POLYHEDRON; self.offsets.len()]);
+        bin.i32(&mut s, "faces", &self.faces);
+        bin.i32(&mut s, "faceoffsets", &self.face_offsets);
+        s.push_str("</Cells>\n</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"raw\">\n_");
+        let mut out = s.into_bytes();
+        out.extend_from_slice(&bin.data);
+        out.extend_from_slice(b"\n</AppendedData>\n</VTKFile>\n");
+        out
+    }
+}
+
+/// Raw binary blocks of the `AppendedData` section, and the XML that points into them.
+#[derive(Default)]
+struct Appended {
+    data: Vec<u8>,
+}
+
+impl Appended {
+    fn declare(&mut self, s: &mut String, ty: &str, name: &str, comps: usize, bytes: impl Iterator<Item = u8>, len: usize) {
+        let _ = writeln!(s, "<DataArray type=\"{ty}\" Name=\"{name}\" NumberOfComponents=\"{comps}\" format=\"appended\" offset=\"{}\"/>", self.data.len());
+        self.data.extend_from_slice(&(len as u64).to_le_bytes());
+        self.data.extend(bytes);
+    }
+    fn f64(&mut self, s: &mut String, name: &str, comps: usize, v: &[f64]) {
+        self.declare(s, "Float64", name, comps, v.iter().flat_map(|x| x.to_le_bytes()), 8 * v.len());
+    }
+    fn i64(&mut self, s: &mut String, name: &str, comps: usize, v: &[i64]) {
+        self.declare(s, "Int64", name, comps, v.iter().flat_map(|x| x.to_le_bytes()), 8 * v.len());
+    }
+    fn i32(&mut self, s: &mut String, name: &str, v: &[i32]) {
+        self.declare(s, "Int32", name, 1, v.iter().flat_map(|x| x.to_le_bytes()), 4 * v.len());
+    }
+    fn u8(&mut self, s: &mut String, name: &str, v: &[u8]) {
+        self.declare(s, "UInt8", name, 1, v.iter().copied(), v.len());
+    }
+    fn vec3(&mut self, s: &mut String, name: &str, v: &[Vec3]) {
+        let flat: Vec<f64> = v.iter().flat_map(|p| [p.x, p.y, p.z]).collect();
+        self.f64(s, name, 3, &flat);
     }
 }
 
 /// Write one frame.
 pub fn write_frame(sys: &System, state: &State, path: &Path) -> Result<()> {
     let mut cells = Cells::default();
+    let quantum = POINT_QUANTUM * sys.covers.mesh.size;
     let (mut disp, mut vel) = (Vec::new(), Vec::new());
     let (mut block_id, mut stress) = (Vec::new(), Vec::new());
     for (e, me) in sys.covers.elements.iter().enumerate() {
         let w = sys.covers.weights(me);
         let interpolate = |xi: &Vec3, f: &dyn Fn(usize) -> Vec3| -> Vec3 { me.covers.iter().zip(w).map(|(&c, wa)| wa.eval(xi) * f(c)).sum() };
-        let verts = cells.push(&me.local, |xi| interpolate(xi, &|c| state.position(sys, c)));
+        let corner = crate::cover::build::cell_corner(me.cell);
+        let key = |xi: &Vec3| point_key(me.block, &sys.covers.mesh.to_global(&(corner + xi)), quantum);
+        let verts = cells.push(&me.local, key, |xi| interpolate(xi, &|c| state.position(sys, c)));
         for xi in &verts {
             disp.push(interpolate(xi, &|c| state.u[c]));
             vel.push(interpolate(xi, &|c| state.v[c]));
@@ -81,18 +139,17 @@ pub fn write_frame(sys: &System, state: &State, path: &Path) -> Result<()> {
         block_id.push(me.block as i64);
         stress.extend(stress_components(&corotation::element_stress(sys, state, e)));
     }
+    let mut bin = Appended::default();
     let mut point_data = String::from("<PointData Vectors=\"displacement\">\n");
-    array_vec(&mut point_data, "displacement", &disp);
-    array_vec(&mut point_data, "velocity", &vel);
+    bin.vec3(&mut point_data, "displacement", &disp);
+    bin.vec3(&mut point_data, "velocity", &vel);
     point_data.push_str("</PointData>\n");
     let mut cell_data = String::from("<CellData Scalars=\"block_id\">\n");
-    array(&mut cell_data, "Int64", "block_id", 1, block_id.iter());
-    array(&mut cell_data, "Int64", "element_id", 1, 0..block_id.len() as i64);
-    array(&mut cell_data, "Float64", "stress", 6, stress.iter());
+    bin.i64(&mut cell_data, "block_id", 1, &block_id);
+    bin.i64(&mut cell_data, "element_id", 1, &(0..block_id.len() as i64).collect::<Vec<_>>());
+    bin.f64(&mut cell_data, "stress", 6, &stress);
     cell_data.push_str("</CellData>\n");
-    let mut s = String::with_capacity(96 * cells.points.len());
-    cells.write(&mut s, &field_data(state.time), &point_data, &cell_data);
-    atomic::write(path, s.as_bytes())
+    atomic::write(path, &cells.write(&mut bin, &field_data(state.time), &point_data, &cell_data))
 }
 
 /// Write the blocks (reference geometry) as polyhedral cells with `block_id`, `body_id`, `volume`.
@@ -101,20 +158,20 @@ pub fn write_blocks(geometry: &crate::model::Geometry, path: &Path) -> Result<()
     let (mut ids, mut bodies, mut vols) = (Vec::new(), Vec::new(), Vec::new());
     for (i, b) in geometry.blocks.iter().enumerate() {
         for piece in &b.pieces {
-            let _ = cells.push(piece, |x| *x);
+            let quantum = POINT_QUANTUM * piece.aabb().diagonal();
+            let _ = cells.push(piece, |x| point_key(i, x, quantum), |x| *x);
             ids.push(i as i64);
             bodies.push(b.body as i64);
             vols.push(b.volume);
         }
     }
+    let mut bin = Appended::default();
     let mut cell_data = String::from("<CellData Scalars=\"block_id\">\n");
-    array(&mut cell_data, "Int64", "block_id", 1, ids.iter());
-    array(&mut cell_data, "Int64", "body_id", 1, bodies.iter());
-    array(&mut cell_data, "Float64", "volume", 1, vols.iter());
+    bin.i64(&mut cell_data, "block_id", 1, &ids);
+    bin.i64(&mut cell_data, "body_id", 1, &bodies);
+    bin.f64(&mut cell_data, "volume", 1, &vols);
     cell_data.push_str("</CellData>\n");
-    let mut s = String::new();
-    cells.write(&mut s, &field_data(0.0), "", &cell_data);
-    atomic::write(path, s.as_bytes())
+    atomic::write(path, &cells.write(&mut bin, &field_data(0.0), "", &cell_data))
 }
 
 fn field_data(time: f64) -> String {
@@ -123,21 +180,6 @@ fn field_data(time: f64) -> String {
         // "compression negative" as ASCII codes, NUL-terminated (VTK's string array encoding)
         "compression negative".bytes().map(|b| b.to_string()).chain(std::iter::once("0".into())).collect::<Vec<_>>().join(" ")
     )
-}
-
-fn array<T: std::fmt::Display>(s: &mut String, ty: &str, name: &str, comps: usize, vals: impl Iterator<Item = T>) {
-    let _ = write!(s, "<DataArray type=\"{ty}\" Name=\"{name}\" NumberOfComponents=\"{comps}\" format=\"ascii\">");
-    for (i, v) in vals.enumerate() {
-        if i > 0 {
-            s.push(' ');
-        }
-        let _ = write!(s, "{v}");
-    }
-    s.push_str("</DataArray>\n");
-}
-
-fn array_vec(s: &mut String, name: &str, vals: &[Vec3]) {
-    array(s, "Float64", name, 3, vals.iter().flat_map(|v| [v.x, v.y, v.z]));
 }
 
 /// Write the `.pvd` collection of (time, relative file) frames.
