@@ -41,11 +41,11 @@ select = { body = "cube" }
 quantities = ["displacement", "velocity", "rotation", "volume", "stress"]
 "#;
 
-fn run_with_threads(threads: usize) -> (String, String) {
+fn run_with_threads(threads: usize) -> (Vec<u8>, Vec<u8>) {
     let dir = out_dir(&format!("determinism_{threads}"));
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
     pool.install(|| run(scenario(TEXT), "<test>", &RunOptions { out: dir.clone(), progress: false }).unwrap());
-    let read = |p: &str| std::fs::read_to_string(dir.join(p)).unwrap();
+    let read = |p: &str| std::fs::read(dir.join(p)).unwrap();
     (read("history.csv"), read("frames/blocks_00002.vtu"))
 }
 
