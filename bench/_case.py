@@ -1,6 +1,6 @@
 """One benchmark case in a fresh process; prints a JSON line with timings and peak memory.
 
-Usage: python bench/_case.py nmm3d N OUT | python bench/_case.py skfem N
+Usage: python bench/_case.py nmm3d N OUT [ORDERING] | python bench/_case.py skfem N
 """
 
 from __future__ import annotations
@@ -11,11 +11,11 @@ import sys
 import time
 
 
-def block_scenario(n: int) -> dict:
+def block_scenario(n: int, ordering: str = "auto") -> dict:
     """A cube of n × n × n cells (tet6: 6 n³ MEs), base held, loaded by its weight."""
     return {
         "analysis": {"kind": "static", "duration": 1.0, "dt": 1.0e3, "max_steps": 1, "max_displacement_ratio": 1.0,
-                     "gravity": [0.0, 0.0, -10.0], "output_interval": 0.0},
+                     "gravity": [0.0, 0.0, -10.0], "output_interval": 0.0, "ordering": ordering},
         "cover": {"pattern": "tet6", "size": 1.0},
         "material": [{"name": "rock", "density": 2500.0, "young": 1.0e9, "poisson": 0.25}],
         "body": [{"name": "block", "material": "rock", "shape": {"box": {"min": [0, 0, 0], "max": [n, n, n]}}}],
@@ -26,11 +26,11 @@ def block_scenario(n: int) -> dict:
     }
 
 
-def run_nmm3d(n: int, out: str) -> dict:
+def run_nmm3d(n: int, out: str, ordering: str = "auto") -> dict:
     import nmm3d
 
     t0 = time.perf_counter()
-    result = nmm3d.Scenario.from_dict(block_scenario(n)).run(out=out)
+    result = nmm3d.Scenario.from_dict(block_scenario(n, ordering)).run(out=out)
     wall = time.perf_counter() - t0
     s = result.summary
     return {"mes": s["manifold_elements"], "dofs": s["dofs"], "timings": s["timings"], "wall": wall,
@@ -71,6 +71,6 @@ def run_skfem(n: int) -> dict:
 
 if __name__ == "__main__":
     which, n = sys.argv[1], int(sys.argv[2])
-    res = run_nmm3d(n, sys.argv[3]) if which == "nmm3d" else run_skfem(n)
+    res = run_nmm3d(n, sys.argv[3], *sys.argv[4:5]) if which == "nmm3d" else run_skfem(n)
     res["peak_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
     print(json.dumps(res))

@@ -14,6 +14,7 @@
 
 pub mod aabb;
 pub mod clip;
+pub mod decompose;
 pub mod error;
 pub mod integrate;
 pub mod math;
@@ -21,6 +22,7 @@ pub mod orientation;
 pub mod plane;
 pub mod polygon;
 pub mod polyhedron;
+pub mod winding;
 
 pub use aabb::Aabb;
 pub use error::GeomError;

@@ -134,9 +134,24 @@ pub struct Analysis {
     pub target_displacement_ratio: f64,
     /// A run whose displacement ratio exceeds this after the smallest step is diverging [-].
     pub divergence_ratio: f64,
+    /// Fill-reducing ordering of the sparse factorisation.
+    pub ordering: Ordering,
     /// Strain measure: "corotational" (small strain in each ME's rotated frame) or
     /// "green_lagrange" (St Venant–Kirchhoff for large strains).
     pub strain_measure: StrainMeasure,
+}
+
+/// Fill-reducing ordering of the sparse Cholesky factorisation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Ordering {
+    /// Nested dissection for large systems (≥ 2000 covers), AMD below.
+    #[default]
+    Auto,
+    /// Approximate minimum degree.
+    Amd,
+    /// METIS nested dissection.
+    NestedDissection,
 }
 
 /// How strain is measured in each manifold element.
@@ -172,6 +187,7 @@ impl Default for Analysis {
             target_displacement_ratio: 0.8,
             divergence_ratio: 1e3,
             strain_measure: StrainMeasure::Corotational,
+            ordering: Ordering::Auto,
         }
     }
 }

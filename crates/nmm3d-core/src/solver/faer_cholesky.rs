@@ -15,10 +15,12 @@ use faer::{Conj, MatMut, Par, Side};
 use super::ordering::{nested_dissection, Permutation};
 use super::LinearSolver;
 use crate::assembly::SparsityPattern;
+use crate::scenario::Ordering;
 
 /// faer's sparse LLᵀ.
 #[derive(Default)]
 pub struct FaerCholesky {
+    choice: Ordering,
     symbolic: Option<SymbolicCholesky<u32>>,
     values: Vec<f64>,
     ordering: Option<&'static str>,
@@ -27,6 +29,11 @@ pub struct FaerCholesky {
 }
 
 impl FaerCholesky {
+    /// A solver using the given ordering choice.
+    pub fn new(choice: Ordering) -> Self {
+        Self { choice, ..Self::default() }
+    }
+
     /// "nested dissection" or "amd" once the symbolic factorisation exists.
     pub fn ordering(&self) -> Option<&'static str> {
         self.ordering
@@ -35,7 +42,7 @@ impl FaerCholesky {
     fn analyse(&mut self, p: &SparsityPattern) -> Result<(), String> {
         let t = Instant::now();
         let sym = SymbolicSparseColMatRef::new_checked(p.n, p.n, &p.col_ptr, None, &p.row_idx);
-        let nd: Option<Permutation> = nested_dissection(p);
+        let nd: Option<Permutation> = nested_dissection(p, self.choice);
         let ord = match &nd {
             Some(perm) => SymmetricOrdering::Custom(PermRef::new_checked(&perm.forward, &perm.inverse, p.n)),
             None => SymmetricOrdering::Amd,

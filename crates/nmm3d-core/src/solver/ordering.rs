@@ -5,6 +5,7 @@
 //! DOF graph, and expanded so each cover's three equations stay together.
 
 use crate::assembly::SparsityPattern;
+use crate::scenario::Ordering;
 
 /// Below this many covers faer's AMD is used.
 pub const ND_MIN_BLOCKS: usize = 2000;
@@ -18,10 +19,16 @@ pub struct Permutation {
     pub inverse: Vec<u32>,
 }
 
-/// Nested-dissection ordering of the pattern's equations (`None`: small, use AMD).
-pub fn nested_dissection(p: &SparsityPattern) -> Option<Permutation> {
+/// Nested-dissection ordering of the pattern's equations, when `choice` asks for it (`Auto`:
+/// from `ND_MIN_BLOCKS` covers on); `None` means AMD.
+pub fn nested_dissection(p: &SparsityPattern, choice: Ordering) -> Option<Permutation> {
     let nb = p.n / 3;
-    if nb < ND_MIN_BLOCKS || p.n % 3 != 0 {
+    let wanted = match choice {
+        Ordering::Auto => nb >= ND_MIN_BLOCKS,
+        Ordering::Amd => false,
+        Ordering::NestedDissection => nb > 0,
+    };
+    if !wanted || p.n % 3 != 0 {
         return None;
     }
     let (xadj, adjncy) = block_graph(p, nb);
@@ -104,7 +111,7 @@ mod tests {
             }
         }
         let p = SparsityPattern::from_cliques(&dofs, n, cliques.iter().map(|c| c.as_slice()));
-        let perm = nested_dissection(&p).expect("large enough for ND");
+        let perm = nested_dissection(&p, Ordering::Auto).expect("large enough for ND");
         let mut seen = perm.forward.clone();
         seen.sort_unstable();
         assert_eq!(seen, (0..3 * n as u32).collect::<Vec<_>>());

@@ -58,7 +58,7 @@ impl Stepper {
     pub fn new(sys: &System) -> Self {
         let nnz = sys.assembler.pattern.nnz();
         Self {
-            solver: Box::new(FaerCholesky::default()),
+            solver: Box::new(FaerCholesky::new(sys.scenario.analysis.ordering)),
             newmark: Newmark::from_analysis(&sys.scenario.analysis),
             tangent: vec![0.0; nnz],
             values: vec![0.0; nnz],
