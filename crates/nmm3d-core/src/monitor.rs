@@ -116,7 +116,7 @@ impl MonitorPlan {
     }
 
     fn volume(&self, sys: &System, state: &State) -> f64 {
-        self.elements.iter().map(|&e| current_polyhedron(sys, state, e).volume()).sum()
+        self.elements.iter().map(|&e| current_volume(sys, state, e)).sum()
     }
 
     fn stress(&self, sys: &System, state: &State) -> [f64; 6] {
@@ -126,10 +126,11 @@ impl MonitorPlan {
     }
 }
 
-/// Current geometry of ME `e`: every vertex mapped by x(ξ) = Σ w_a(ξ) x_a (exact for linear
+/// Current volume of ME `e`: every vertex mapped by x(ξ) = Σ w_a(ξ) x_a (exact for linear
 /// covers; hex8 faces are flattened through their mapped vertices).
-pub fn current_polyhedron(sys: &System, state: &State, e: usize) -> nmm3d_geom::ConvexPolyhedron {
+pub fn current_volume(sys: &System, state: &State, e: usize) -> f64 {
     let me = &sys.covers.elements[e];
     let w = sys.covers.weights(me);
-    me.local.map(|xi| me.covers.iter().zip(w).map(|(&c, wa)| wa.eval(xi) * state.position(sys, c)).sum())
+    let place = |xi: &Vec3| -> Vec3 { me.covers.iter().zip(w).map(|(&c, wa)| wa.eval(xi) * state.position(sys, c)).sum() };
+    me.parts.iter().map(|p| p.map(place).volume()).sum()
 }

@@ -31,7 +31,7 @@ fn random_convex(rng: &mut Lcg) -> ConvexPolyhedron {
 
 fn geometry(pieces: Vec<ConvexPolyhedron>) -> Geometry {
     let mat = Elastic::new(&Material { name: "r".into(), density: 2500.0, young: 1e9, poisson: 0.25 });
-    Geometry { blocks: pieces.into_iter().map(|p| Block::new(0, 0, false, vec![p])).collect(), materials: vec![mat] }
+    Geometry { blocks: pieces.into_iter().map(|p| Block::new(0, 0, false, vec![p])).collect(), materials: vec![mat], features: Vec::new(), report: Default::default() }
 }
 
 fn random_mesh(rng: &mut Lcg) -> MathMesh {

@@ -61,3 +61,59 @@ pub fn dedup_cyclic(points: &mut Vec<Vec3>, tol: f64) {
         let _ = points.pop();
     }
 }
+
+/// Half-spaces bounding a convex polygon within its plane: for each edge, the plane through it
+/// whose normal points out of the polygon (`normal` is the polygon's unit normal).
+fn edge_planes(poly: &[Vec3], normal: &Vec3) -> Vec<crate::plane::Plane> {
+    let n = poly.len();
+    (0..n)
+        .filter_map(|i| crate::plane::Plane::from_point_normal(poly[i], (poly[(i + 1) % n] - poly[i]).cross(normal)))
+        .collect()
+}
+
+/// Intersection of two coplanar convex polygons (as a convex polygon, possibly empty).
+/// `normal` is the unit normal `clip` is counter-clockwise about.
+pub fn intersect_convex(subject: &[Vec3], clip: &[Vec3], normal: &Vec3, eps: f64) -> Vec<Vec3> {
+    let mut out = subject.to_vec();
+    for p in edge_planes(clip, normal) {
+        out = crate::decompose::clip_polygon_to(&out, &p, eps);
+        if out.len() < 3 {
+            return Vec::new();
+        }
+    }
+    out
+}
+
+/// `subject` minus the coplanar convex `clip`, as convex polygons (one per clip edge that cuts).
+pub fn difference_convex(subject: &[Vec3], clip: &[Vec3], normal: &Vec3, eps: f64) -> Vec<Vec<Vec3>> {
+    let mut rest = subject.to_vec();
+    let mut out = Vec::new();
+    for p in edge_planes(clip, normal) {
+        let outside = crate::decompose::clip_polygon_to(&rest, &p.flipped(), eps);
+        if outside.len() >= 3 && area_vector(&outside).norm() > eps * eps {
+            out.push(outside);
+        }
+        rest = crate::decompose::clip_polygon_to(&rest, &p, eps);
+        if rest.len() < 3 {
+            break;
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn convex_intersection_and_difference_partition_the_subject() {
+        let sq = |x0: f64, y0: f64, s: f64| vec![Vec3::new(x0, y0, 0.0), Vec3::new(x0 + s, y0, 0.0), Vec3::new(x0 + s, y0 + s, 0.0), Vec3::new(x0, y0 + s, 0.0)];
+        let (a, b) = (sq(0.0, 0.0, 2.0), sq(1.0, 1.0, 2.0));
+        let z = Vec3::z();
+        let i = intersect_convex(&a, &b, &z, 1e-12);
+        assert!((area_vector(&i).norm() - 1.0).abs() < 1e-12);
+        let d: f64 = difference_convex(&a, &b, &z, 1e-12).iter().map(|p| area_vector(p).norm()).sum();
+        assert!((d - 3.0).abs() < 1e-12);
+        assert!(intersect_convex(&a, &sq(5.0, 5.0, 1.0), &z, 1e-12).is_empty());
+    }
+}

@@ -15,7 +15,8 @@ use super::mesh::{MathMesh, NodeKey};
 use super::pattern::{parity, PatternTable, CELL_TAG};
 use super::physical_cover::{PhysicalCover, UnionFind};
 use super::poly::{self, TERMS};
-use crate::model::{Block, Geometry};
+use crate::model::cutting::faces_touch;
+use crate::model::{tags, Block, Geometry};
 
 /// The cover system of a model.
 #[derive(Debug, Clone)]
@@ -47,11 +48,6 @@ impl Covers {
         Self { mesh, pattern, elements, covers }
     }
 
-    /// Reference position of every ME vertex, in global coordinates.
-    pub fn global_polyhedron(&self, e: &ManifoldElement) -> ConvexPolyhedron {
-        let c = cell_corner(e.cell);
-        e.local.map(|x| self.mesh.to_global(&(x + c)))
-    }
 
     /// Weight functions of an ME's nodes.
     pub fn weights(&self, e: &ManifoldElement) -> &[poly::Poly] {
@@ -69,7 +65,7 @@ impl Covers {
         let t = tol / self.mesh.size;
         self.elements
             .iter()
-            .position(|e| e.block == block && e.local.contains(&(local - cell_corner(e.cell)), t))
+            .position(|e| e.block == block && e.contains(&(local - cell_corner(e.cell)), t))
     }
 }
 
@@ -109,7 +105,8 @@ fn block_elements(
     full_moments: &[Vec<[f64; TERMS]>; 2],
 ) -> Vec<ManifoldElement> {
     let s3 = mesh.size.powi(3);
-    let mut out = Vec::new();
+    // Parts of every piece in every sub-cell: (cell, sub-cell) → [(part, moments, whole)].
+    let mut parts: Vec<([i32; 3], usize, ConvexPolyhedron, [f64; TERMS], bool)> = Vec::new();
     for piece in &block.pieces {
         let local = piece.map(|x| mesh.to_local(x));
         let planes = local.face_planes();
@@ -126,33 +123,66 @@ fn block_elements(
                         planes.iter().all(|p| p.signed_distance(&x) < -eps)
                     });
                     for (si, sub) in pattern.of_cell(cell).iter().enumerate() {
-                        let geom = if full {
-                            Some(sub.shape.clone())
-                        } else {
-                            clip_to_subcell(&local, sub, c)
-                        };
+                        let geom = if full { Some(sub.shape.clone()) } else { clip_to_subcell(&local, sub, c) };
                         let Some(g) = geom else { continue };
                         let whole = full_moments[parity(cell)][si];
                         // A clipped piece with the whole sub-cell's volume is the sub-cell (only its
                         // faces on the block boundary are tagged differently): reuse its moments.
                         let is_whole = full || (g.volume() - whole[0]).abs() <= WHOLE_TOLERANCE * whole[0];
                         let m = if is_whole { whole } else { moments(&g, pattern) };
-                        out.push(ManifoldElement {
-                            block: b,
-                            cell,
-                            subcell: si,
-                            covers: Vec::new(),
-                            volume: m[0] * s3,
-                            local: g,
-                            full: is_whole,
-                            moments: m,
-                        });
+                        parts.push((cell, si, g, m, is_whole));
                     }
                 }
             }
         }
     }
+    if block.pieces.len() > 1 {
+        parts.sort_by_key(|p| (p.0[2], p.0[1], p.0[0], p.1));
+    }
+    let mut out = Vec::new();
+    let mut start = 0;
+    while start < parts.len() {
+        let end = start + parts[start..].iter().take_while(|p| p.0 == parts[start].0 && p.1 == parts[start].1).count();
+        for group in connected_parts(&parts[start..end]) {
+            let (cell, subcell) = (parts[start].0, parts[start].1);
+            let mut m = [0.0; TERMS];
+            for &g in &group {
+                m.iter_mut().zip(parts[g + start].3.iter()).for_each(|(a, b)| *a += b);
+            }
+            let full = group.len() == 1 && parts[group[0] + start].4;
+            let geom = group.iter().map(|&g| parts[g + start].2.clone()).collect();
+            out.push(ManifoldElement { block: b, cell, subcell, covers: Vec::new(), volume: m[0] * s3, parts: geom, full, moments: m });
+        }
+        start = end;
+    }
     out
+}
+
+/// Groups (indices) of the parts in one sub-cell that touch through glue faces.
+fn connected_parts(parts: &[([i32; 3], usize, ConvexPolyhedron, [f64; TERMS], bool)]) -> Vec<Vec<usize>> {
+    if parts.len() == 1 {
+        return vec![vec![0]];
+    }
+    let mut uf = UnionFind::new(parts.len());
+    for a in 0..parts.len() {
+        for b in a + 1..parts.len() {
+            let touch = parts[a].2.faces.iter().filter(|f| f.tag == tags::GLUE).any(|fa| {
+                parts[b].2.faces.iter().filter(|f| f.tag == tags::GLUE).any(|fb| faces_touch(fa, fb, 1.0))
+            });
+            if touch {
+                uf.union(a, b);
+            }
+        }
+    }
+    let mut groups: Vec<(usize, Vec<usize>)> = Vec::new();
+    for i in 0..parts.len() {
+        let r = uf.find(i);
+        match groups.iter_mut().find(|(root, _)| *root == r) {
+            Some((_, g)) => g.push(i),
+            None => groups.push((r, vec![i])),
+        }
+    }
+    groups.into_iter().map(|(_, g)| g).collect()
 }
 
 /// (piece ∩ sub-cell) in cell-local coordinates.
@@ -183,7 +213,7 @@ fn number_covers(
     let mut faces: HashMap<FaceKey, (usize, usize)> = HashMap::new();
     for (ei, e) in elements.iter().enumerate() {
         let sub = &pattern.of_cell(e.cell)[e.subcell];
-        for f in e.local.faces.iter().filter(|f| f.tag.0 >= CELL_TAG) {
+        for f in e.faces().filter(|f| f.tag.0 >= CELL_TAG) {
             let plane = (f.tag.0 - CELL_TAG) as usize;
             let key = face_key(e, sub, plane);
             if let Some((other, other_plane)) = faces.insert(key, (ei, plane)) {

@@ -15,8 +15,10 @@ pub struct ManifoldElement {
     pub subcell: usize,
     /// Physical cover of each sub-cell node (aligned with the sub-cell's `nodes`).
     pub covers: Vec<usize>,
-    /// Geometry in cell-local ξ; faces tagged below `CELL_TAG` lie on the block boundary.
-    pub local: ConvexPolyhedron,
+    /// Geometry in cell-local ξ: convex parts (one for convex blocks; several glued parts of a
+    /// non-convex block). Faces with boundary tags (`model::tags::is_boundary`) lie on the
+    /// block surface.
+    pub parts: Vec<ConvexPolyhedron>,
     /// Whether the whole sub-cell lies inside the block.
     pub full: bool,
     /// Volume [m³].
@@ -26,8 +28,18 @@ pub struct ManifoldElement {
 }
 
 impl ManifoldElement {
-    /// Whether the ME has a face on the block boundary.
-    pub fn on_boundary(&self) -> bool {
-        self.local.faces.iter().any(|f| f.tag.0 < super::pattern::CELL_TAG)
+    /// Every face of every part.
+    pub fn faces(&self) -> impl Iterator<Item = &nmm3d_geom::Face> {
+        self.parts.iter().flat_map(|p| p.faces.iter())
+    }
+
+    /// Faces on the block surface.
+    pub fn boundary_faces(&self) -> impl Iterator<Item = &nmm3d_geom::Face> {
+        self.faces().filter(|f| crate::model::tags::is_boundary(f.tag))
+    }
+
+    /// Whether a cell-local point lies in the ME (within `tol`).
+    pub fn contains(&self, xi: &nmm3d_geom::Vec3, tol: f64) -> bool {
+        self.parts.iter().any(|p| p.contains(xi, tol))
     }
 }

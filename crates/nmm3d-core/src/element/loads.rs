@@ -6,7 +6,6 @@ use nmm3d_geom::{integrate, Vec3};
 
 use super::kernel::stress_matrix;
 use crate::cover::build::cell_corner;
-use crate::cover::pattern::CELL_TAG;
 use crate::cover::poly::{self, Poly, TERMS};
 use crate::cover::{Covers, ManifoldElement};
 use crate::scenario::{InSituStress, Region};
@@ -73,7 +72,7 @@ pub fn boundary_face_integrals(covers: &Covers, e: &ManifoldElement, region: &Re
     let exps: Vec<_> = (0..TERMS).map(poly::exponent).filter(|e| e.iter().all(|&k| k <= 1)).collect();
     let mut total: Option<Vec<f64>> = None;
     let cos_tol = NORMAL_TOLERANCE_DEG.to_radians().cos();
-    for f in e.local.faces.iter().filter(|f| f.tag.0 < CELL_TAG) {
+    for f in e.boundary_faces() {
         let inside = f.vertices.iter().all(|v| bb.contains(&covers.mesh.to_global(&(cell_corner(e.cell) + v)), 1e-9 * covers.mesh.size));
         let facing = normal.is_none_or(|n| (covers.mesh.rotation * f.area_vector()).normalize().dot(&n.normalize()) >= cos_tol);
         if !inside || !facing {

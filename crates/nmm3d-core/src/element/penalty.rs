@@ -7,7 +7,6 @@ use nmm3d_geom::Vec3;
 
 use super::loads::weights_at;
 use crate::cover::build::cell_corner;
-use crate::cover::pattern::CELL_TAG;
 use crate::cover::Covers;
 use crate::scenario::{Axis, Region};
 
@@ -39,7 +38,7 @@ pub fn boundary_vertices_in(covers: &Covers, region: &Region, weld: f64) -> Vec<
     let bb = nmm3d_geom::Aabb { min: Vec3::from(*min), max: Vec3::from(*max) };
     let mut found: BTreeMap<[i64; 3], (usize, Vec3)> = BTreeMap::new();
     for (ei, e) in covers.elements.iter().enumerate() {
-        for f in e.local.faces.iter().filter(|f| f.tag.0 < CELL_TAG) {
+        for f in e.boundary_faces() {
             for v in &f.vertices {
                 let x = covers.mesh.to_global(&(cell_corner(e.cell) + v));
                 if bb.contains(&x, weld) {

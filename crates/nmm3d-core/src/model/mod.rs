@@ -1,8 +1,11 @@
 //! The immutable model: blocks, materials and the scenario they came from.
 
 pub mod block;
+pub mod cutting;
 pub mod material;
 pub mod shape;
+pub mod tags;
+pub mod tunnel;
 
 use nmm3d_geom::{Aabb, Vec3};
 
@@ -18,22 +21,35 @@ pub struct Geometry {
     pub blocks: Vec<Block>,
     /// Materials in scenario order.
     pub materials: Vec<Elastic>,
+    /// Joint features (sets, then single planes) that made joint faces.
+    pub features: Vec<cutting::JointFeature>,
+    /// What cutting did.
+    pub report: cutting::CutReport,
 }
 
 impl Geometry {
-    /// Build blocks from a validated scenario.
+    /// Build blocks from a validated scenario: bodies, then joints, then excavations.
     pub fn from_scenario(s: &Scenario) -> Self {
         let materials: Vec<Elastic> = s.material.iter().map(Elastic::new).collect();
-        let mut blocks = Vec::new();
-        for (k, b) in s.body.iter().enumerate() {
-            let m = s.material.iter().position(|m| m.name == b.material).expect("validated");
-            let piece = shape::shape_to_convex(&b.shape).expect("validated");
-            let mut block = Block::new(k, m, b.fixed, vec![piece]);
-            block.velocity = Vec3::from(b.velocity);
-            block.angular_velocity = Vec3::from(b.angular_velocity);
-            blocks.push(block);
-        }
-        Self { blocks, materials }
+        let initial = s
+            .body
+            .iter()
+            .enumerate()
+            .map(|(k, b)| cutting::RawBlock { body: k, pieces: shape::shape_to_pieces(&b.shape).expect("validated") })
+            .collect();
+        let (raw, report) = cutting::cut(s, initial);
+        let blocks = raw
+            .into_iter()
+            .map(|r| {
+                let b = &s.body[r.body];
+                let m = s.material.iter().position(|m| m.name == b.material).expect("validated");
+                let mut block = Block::new(r.body, m, b.fixed, r.pieces);
+                block.velocity = Vec3::from(b.velocity);
+                block.angular_velocity = Vec3::from(b.angular_velocity);
+                block
+            })
+            .collect();
+        Self { blocks, materials, features: cutting::joint_features(s), report }
     }
 
     /// Bounding box of all blocks.

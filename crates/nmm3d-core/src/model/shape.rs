@@ -1,48 +1,82 @@
-//! Body shapes of the scenario turned into convex polyhedra (this version: convex shapes).
+//! Scenario shapes turned into convex pieces. Convex shapes are one piece; a non-convex
+//! polyhedron or prism becomes several convex pieces glued by internal faces
+//! (`nmm3d_geom::decompose`), so covers, integration and contact see one solid. Faces keep the
+//! index of the shape face they lie on (`tags::body_face`), internal faces are `tags::GLUE`.
 
-use nmm3d_geom::{orientation, ConvexPolyhedron, GeomError, Plane, Vec3};
+use nmm3d_geom::decompose::{convex_pieces, NewFaceTags};
+use nmm3d_geom::polyhedron::check_closed;
+use nmm3d_geom::{ConvexPolyhedron, Face, GeomError, Plane, Vec3};
 
+use super::tags;
+use super::tunnel::tunnel_polyhedron;
 use crate::scenario::Shape;
 
-/// The convex polyhedron of a shape; on failure (sub-path, reason).
-pub fn shape_to_convex(shape: &Shape) -> Result<ConvexPolyhedron, (String, String)> {
+/// Failure: (sub-path below the shape, reason).
+pub type ShapeError = (String, String);
+
+/// The convex pieces of a shape (an excavation may also be a tunnel).
+pub fn shape_to_pieces(shape: &Shape) -> Result<Vec<ConvexPolyhedron>, ShapeError> {
     let geom = |sub: &str, e: GeomError| (sub.to_string(), e.to_string());
     match shape {
         Shape::Box { min, max } => {
             if (0..3).any(|i| !(min[i] < max[i])) {
                 return Err((".box".into(), "min must be below max in every axis (an empty box)".into()));
             }
-            Ok(ConvexPolyhedron::from_box(Vec3::from(*min), Vec3::from(*max)))
+            Ok(vec![ConvexPolyhedron::from_box(Vec3::from(*min), Vec3::from(*max))])
         }
         Shape::Convex { planes } => {
             let mut ps = Vec::with_capacity(planes.len());
             for (k, c) in planes.iter().enumerate() {
                 ps.push(Plane::from_coefficients(*c).ok_or_else(|| geom(".convex.planes", GeomError::ZeroNormal { index: k }))?);
             }
-            ConvexPolyhedron::from_planes(&ps).map_err(|e| geom(".convex.planes", e))
+            ConvexPolyhedron::from_planes(&ps).map(|p| vec![p]).map_err(|e| geom(".convex.planes", e))
         }
-        Shape::Polyhedron { vertices, faces } => {
-            let vs: Vec<Vec3> = vertices.iter().map(|v| Vec3::from(*v)).collect();
-            ConvexPolyhedron::from_vertices_faces(&vs, faces).map_err(|e| match e {
-                GeomError::NotConvex { .. } => (
-                    ".polyhedron".to_string(),
-                    format!("{e}; non-convex bodies are not supported by this version of nmm3d yet"),
-                ),
-                other => geom(".polyhedron", other),
-            })
-        }
-        Shape::Prism { polygon, z } => prism(polygon, *z),
-        Shape::Tunnel(_) => Err((".tunnel".into(), "a tunnel is only allowed as an excavation shape".into())),
+        Shape::Polyhedron { vertices, faces } => polyhedron(vertices, faces).map_err(|(s, r)| (format!(".polyhedron{s}"), r)),
+        Shape::Prism { polygon, z } => prism(polygon, *z).map_err(|r| (".prism".to_string(), r)),
+        Shape::Tunnel(t) => tunnel_polyhedron(t).map(|p| vec![p]).map_err(|r| (".tunnel".to_string(), r)),
     }
 }
 
-fn prism(polygon: &[[f64; 2]], z: [f64; 2]) -> Result<ConvexPolyhedron, (String, String)> {
-    let bad = |r: &str| Err((".prism".to_string(), r.to_string()));
+fn polyhedron(vertices: &[[f64; 3]], faces: &[Vec<usize>]) -> Result<Vec<ConvexPolyhedron>, ShapeError> {
+    let vs: Vec<Vec3> = vertices.iter().map(|v| Vec3::from(*v)).collect();
+    check_closed(&vs, faces).map_err(|e| (String::new(), e.to_string()))?;
+    match ConvexPolyhedron::from_vertices_faces(&vs, faces) {
+        Ok(p) => Ok(vec![p]),
+        Err(GeomError::NotConvex { .. }) => {
+            let fs: Vec<Face> = faces
+                .iter()
+                .enumerate()
+                .map(|(k, f)| Face { vertices: f.iter().map(|&i| vs[i]).collect(), tag: tags::body_face(k) })
+                .collect();
+            let vol: f64 = ConvexPolyhedron { faces: fs.clone() }.volume();
+            if !(vol > 0.0) {
+                return Err((String::new(), "the faces are oriented inwards (they must be counter-clockwise seen from outside)".into()));
+            }
+            let pieces = convex_pieces(&fs, NewFaceTags { glue: tags::GLUE });
+            check_volume(&pieces, vol).map_err(|r| (String::new(), r))?;
+            Ok(pieces)
+        }
+        Err(e) => Err((String::new(), e.to_string())),
+    }
+}
+
+fn check_volume(pieces: &[ConvexPolyhedron], expected: f64) -> Result<(), String> {
+    let got: f64 = pieces.iter().map(|p| p.volume()).sum();
+    if (got - expected).abs() > 1e-9 * expected {
+        return Err(format!("the solid could not be decomposed (volume {got} instead of {expected}): is it self-intersecting?"));
+    }
+    Ok(())
+}
+
+fn prism(polygon: &[[f64; 2]], z: [f64; 2]) -> Result<Vec<ConvexPolyhedron>, String> {
     if polygon.len() < 3 {
-        return bad("the polygon needs at least 3 vertices");
+        return Err("the polygon needs at least 3 vertices".into());
     }
     if !(z[0] < z[1]) {
-        return bad("z = [z0, z1] needs z0 < z1");
+        return Err("z = [z0, z1] needs z0 < z1".into());
+    }
+    if let Some((i, j)) = self_intersection(polygon) {
+        return Err(format!("the polygon is not simple: edges {i} and {j} cross"));
     }
     let n = polygon.len();
     let area2: f64 = (0..n).map(|i| {
@@ -50,29 +84,66 @@ fn prism(polygon: &[[f64; 2]], z: [f64; 2]) -> Result<ConvexPolyhedron, (String,
         a[0] * b[1] - a[1] * b[0]
     }).sum();
     if area2.abs() <= 1e-14 {
-        return bad("the polygon has no area");
+        return Err("the polygon has no area".into());
     }
-    let sign = area2.signum();
-    let mut planes = vec![
-        Plane::from_coefficients([0.0, 0.0, -1.0, -z[0]]).unwrap(),
-        Plane::from_coefficients([0.0, 0.0, 1.0, z[1]]).unwrap(),
+    let ccw: Vec<[f64; 2]> = if area2 > 0.0 { polygon.to_vec() } else { polygon.iter().rev().copied().collect() };
+    let v = |i: usize, zz: f64| Vec3::new(ccw[i % n][0], ccw[i % n][1], zz);
+    let mut faces = vec![
+        Face { vertices: (0..n).rev().map(|i| v(i, z[0])).collect(), tag: tags::body_face(0) },
+        Face { vertices: (0..n).map(|i| v(i, z[1])).collect(), tag: tags::body_face(1) },
     ];
     for i in 0..n {
-        let (a, b, c) = (polygon[i], polygon[(i + 1) % n], polygon[(i + 2) % n]);
-        let turn = (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0]);
-        if turn * sign < -1e-12 {
-            return bad("the polygon is not convex; non-convex prisms are not supported by this version of nmm3d yet");
-        }
-        let edge = Vec3::new(b[0] - a[0], b[1] - a[1], 0.0);
-        let outward = Vec3::new(edge.y, -edge.x, 0.0) * sign;
-        let p = Plane::from_point_normal(Vec3::new(a[0], a[1], 0.0), outward)
-            .ok_or_else(|| (".prism".to_string(), format!("polygon vertices {i} and {} coincide", (i + 1) % n)))?;
-        planes.push(p);
+        faces.push(Face { vertices: vec![v(i, z[0]), v(i + 1, z[0]), v(i + 1, z[1]), v(i, z[1])], tag: tags::body_face(2 + i) });
     }
-    ConvexPolyhedron::from_planes(&planes).map_err(|e| (".prism".into(), e.to_string()))
+    let convex = (0..n).all(|i| {
+        let (a, b, c) = (ccw[i], ccw[(i + 1) % n], ccw[(i + 2) % n]);
+        (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0]) >= -1e-12
+    });
+    let vol = 0.5 * area2.abs() * (z[1] - z[0]);
+    if convex {
+        let planes: Vec<Plane> = faces.iter().map(|f| Plane::from_point_normal(f.vertices[0], f.area_vector()).expect("non-degenerate")).collect();
+        let mut p = ConvexPolyhedron::from_planes(&planes).map_err(|e| e.to_string())?;
+        p.faces.iter_mut().enumerate().for_each(|(k, f)| f.tag = tags::body_face(k));
+        return Ok(vec![p]);
+    }
+    let pieces = convex_pieces(&faces, NewFaceTags { glue: tags::GLUE });
+    check_volume(&pieces, vol)?;
+    Ok(pieces)
 }
 
-/// Unit normal from a dip / dip direction pair (re-exported for joints).
-pub fn plane_normal(dip: f64, dip_direction: f64) -> Vec3 {
-    orientation::normal_from_dip(dip, dip_direction)
+/// First pair of non-adjacent edges that intersect.
+fn self_intersection(p: &[[f64; 2]]) -> Option<(usize, usize)> {
+    let n = p.len();
+    let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+    for i in 0..n {
+        for j in i + 1..n {
+            if j == i + 1 || (i == 0 && j == n - 1) {
+                continue;
+            }
+            let (a, b, c, d) = (p[i], p[(i + 1) % n], p[j], p[(j + 1) % n]);
+            let (d1, d2) = (cross(a, b, c), cross(a, b, d));
+            let (d3, d4) = (cross(c, d, a), cross(c, d, b));
+            if d1 * d2 <= 0.0 && d3 * d4 <= 0.0 && (d1 != 0.0 || d2 != 0.0) {
+                return Some((i, j));
+            }
+        }
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_non_convex_prism_is_glued_pieces_of_the_right_volume() {
+        let l = vec![[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [1.0, 1.0], [1.0, 2.0], [0.0, 2.0]];
+        let pieces = prism(&l, [0.0, 1.0]).unwrap();
+        let v: f64 = pieces.iter().map(|p| p.volume()).sum();
+        assert!((v - 3.0).abs() < 1e-12);
+        assert!(pieces.len() > 1);
+        let reversed: Vec<[f64; 2]> = l.iter().rev().copied().collect();
+        assert!((prism(&reversed, [0.0, 1.0]).unwrap().iter().map(|p| p.volume()).sum::<f64>() - 3.0).abs() < 1e-12);
+        assert!(prism(&[[0.0, 0.0], [1.0, 1.0], [1.0, 0.0], [0.0, 1.0]], [0.0, 1.0]).unwrap_err().contains("not simple"));
+    }
 }

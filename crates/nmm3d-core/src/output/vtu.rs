@@ -125,19 +125,23 @@ pub fn write_frame(sys: &System, state: &State, path: &Path) -> Result<()> {
     let mut cells = Cells::default();
     let quantum = POINT_QUANTUM * sys.covers.mesh.size;
     let (mut disp, mut vel) = (Vec::new(), Vec::new());
-    let (mut block_id, mut stress) = (Vec::new(), Vec::new());
+    let (mut block_id, mut element_id, mut stress) = (Vec::new(), Vec::new(), Vec::new());
     for (e, me) in sys.covers.elements.iter().enumerate() {
         let w = sys.covers.weights(me);
         let interpolate = |xi: &Vec3, f: &dyn Fn(usize) -> Vec3| -> Vec3 { me.covers.iter().zip(w).map(|(&c, wa)| wa.eval(xi) * f(c)).sum() };
         let corner = crate::cover::build::cell_corner(me.cell);
         let key = |xi: &Vec3| point_key(me.block, &sys.covers.mesh.to_global(&(corner + xi)), quantum);
-        let verts = cells.push(&me.local, key, |xi| interpolate(xi, &|c| state.position(sys, c)));
-        for xi in &verts {
-            disp.push(interpolate(xi, &|c| state.u[c]));
-            vel.push(interpolate(xi, &|c| state.v[c]));
+        let sigma = stress_components(&corotation::element_stress(sys, state, e));
+        for part in &me.parts {
+            let verts = cells.push(part, key, |xi| interpolate(xi, &|c| state.position(sys, c)));
+            for xi in &verts {
+                disp.push(interpolate(xi, &|c| state.u[c]));
+                vel.push(interpolate(xi, &|c| state.v[c]));
+            }
+            block_id.push(me.block as i64);
+            element_id.push(e as i64);
+            stress.extend(sigma);
         }
-        block_id.push(me.block as i64);
-        stress.extend(stress_components(&corotation::element_stress(sys, state, e)));
     }
     let mut bin = Appended::default();
     let mut point_data = String::from("<PointData Vectors=\"displacement\">\n");
@@ -146,7 +150,7 @@ pub fn write_frame(sys: &System, state: &State, path: &Path) -> Result<()> {
     point_data.push_str("</PointData>\n");
     let mut cell_data = String::from("<CellData Scalars=\"block_id\">\n");
     bin.i64(&mut cell_data, "block_id", 1, &block_id);
-    bin.i64(&mut cell_data, "element_id", 1, &(0..block_id.len() as i64).collect::<Vec<_>>());
+    bin.i64(&mut cell_data, "element_id", 1, &element_id);
     bin.f64(&mut cell_data, "stress", 6, &stress);
     cell_data.push_str("</CellData>\n");
     atomic::write(path, &cells.write(&mut bin, &field_data(state.time), &point_data, &cell_data))

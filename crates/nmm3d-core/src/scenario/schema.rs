@@ -19,6 +19,9 @@ pub struct Scenario {
     /// Contact penalties.
     #[serde(default)]
     pub contact: ContactSpec,
+    /// Block cutting controls (addition to v1).
+    #[serde(default)]
+    pub cutting: CuttingSpec,
     /// Materials (unique names).
     #[serde(default)]
     pub material: Vec<Material>,
@@ -275,6 +278,21 @@ pub struct ContactSpec {
     pub normal_stiffness: Stiffness,
     /// Shear penalty [N/m] or "auto".
     pub shear_stiffness: Stiffness,
+}
+
+/// `[cutting]`: controls of the rock-mass cutting.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct CuttingSpec {
+    /// A block smaller than this fraction of its largest neighbour is merged into it
+    /// (dropped if it has none) [-]; 0 = keep every block.
+    pub sliver_ratio: f64,
+}
+
+impl Default for CuttingSpec {
+    fn default() -> Self {
+        Self { sliver_ratio: 1e-4 }
+    }
 }
 
 /// `[[material]]`: isotropic linear elasticity.

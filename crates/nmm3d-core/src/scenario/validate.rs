@@ -5,7 +5,7 @@ use std::collections::HashSet;
 
 use super::schema::*;
 use crate::error::{Error, Problem, Result};
-use crate::model::shape::shape_to_convex;
+use crate::model::shape::shape_to_pieces;
 
 struct Checker {
     problems: Vec<Problem>,
@@ -149,7 +149,9 @@ fn bodies(c: &mut Checker, s: &Scenario) {
         if b.velocity.iter().chain(b.angular_velocity.iter()).any(|v| !v.is_finite()) {
             c.fail(format!("{p}.velocity"), "must be finite");
         }
-        if let Err((sub, reason)) = shape_to_convex(&b.shape) {
+        if matches!(b.shape, Shape::Tunnel(_)) {
+            c.fail(format!("{p}.shape.tunnel"), "a tunnel is only allowed as an excavation shape");
+        } else if let Err((sub, reason)) = shape_to_pieces(&b.shape) {
             c.fail(format!("{p}.shape{sub}"), reason);
         }
     }
@@ -157,22 +159,44 @@ fn bodies(c: &mut Checker, s: &Scenario) {
 
 fn cutting(c: &mut Checker, s: &Scenario) {
     let body_known = |n: &String| s.body.iter().any(|b| &b.name == n);
+    if !(s.cutting.sliver_ratio >= 0.0 && s.cutting.sliver_ratio < 1.0) {
+        c.fail("cutting.sliver_ratio", "must lie in [0, 1)");
+    }
     for (k, js) in s.joint_set.iter().enumerate() {
         let p = format!("joint_set[{k}]");
         if !(0.0..=90.0).contains(&js.dip) {
             c.fail(format!("{p}.dip"), format!("must lie in [0, 90], got {}", js.dip));
         }
+        if !js.dip_direction.is_finite() {
+            c.fail(format!("{p}.dip_direction"), "must be finite");
+        }
         c.positive(&format!("{p}.spacing"), js.spacing);
         for n in js.bodies.iter().flatten().filter(|n| !body_known(n)) {
             c.fail(format!("{p}.bodies"), format!("there is no body named '{n}'"));
         }
+        if let Some(j) = js.joint.as_ref().filter(|j| !has_joint(s, j)) {
+            c.fail(format!("{p}.joint"), format!("there is no joint named '{j}'"));
+        }
     }
     for (k, jp) in s.joint_plane.iter().enumerate() {
         let p = format!("joint_plane[{k}]");
-        if let Some(d) = jp.dip {
-            if !(0.0..=90.0).contains(&d) {
-                c.fail(format!("{p}.dip"), format!("must lie in [0, 90], got {d}"));
-            }
+        match (jp.dip, jp.dip_direction, jp.normal) {
+            (Some(d), Some(_), None) if !(0.0..=90.0).contains(&d) => c.fail(format!("{p}.dip"), format!("must lie in [0, 90], got {d}")),
+            (Some(_), Some(_), None) => {}
+            (None, None, Some(n)) if n.iter().map(|x| x * x).sum::<f64>() > 0.0 => {}
+            (None, None, Some(_)) => c.fail(format!("{p}.normal"), "must be a non-zero vector"),
+            _ => c.fail(p.clone(), "give either dip and dip_direction, or normal"),
+        }
+        for n in jp.bodies.iter().flatten().filter(|n| !body_known(n)) {
+            c.fail(format!("{p}.bodies"), format!("there is no body named '{n}'"));
+        }
+        if let Some(j) = jp.joint.as_ref().filter(|j| !has_joint(s, j)) {
+            c.fail(format!("{p}.joint"), format!("there is no joint named '{j}'"));
+        }
+    }
+    for (k, ex) in s.excavation.iter().enumerate() {
+        if let Err((sub, reason)) = shape_to_pieces(&ex.shape) {
+            c.fail(format!("excavation[{k}].shape{sub}"), reason);
         }
     }
     for (k, i) in s.interface.iter().enumerate() {
@@ -182,12 +206,6 @@ fn cutting(c: &mut Checker, s: &Scenario) {
         if !has_joint(s, &i.joint) {
             c.fail(format!("interface[{k}].joint"), format!("there is no joint named '{}'", i.joint));
         }
-    }
-    // Cutting (joint sets, joint planes, excavations) is the rock-mass modelling stage, not
-    // in this version yet: refuse rather than silently ignore.
-    if !s.joint_set.is_empty() || !s.joint_plane.is_empty() || !s.excavation.is_empty() {
-        let key = if !s.joint_set.is_empty() { "joint_set" } else if !s.joint_plane.is_empty() { "joint_plane" } else { "excavation" };
-        c.fail(key, "cutting bodies by joints and excavations is not supported by this version of nmm3d yet");
     }
 }
 
