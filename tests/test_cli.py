@@ -150,6 +150,7 @@ def test_blocks_command_writes_geometry_only(tmp_path):
     r = nmm3d("blocks", str(write(tmp_path, GOOD)), "--out", str(out))
     assert r.returncode == 0, r.stderr
     assert "1 blocks" in r.stdout and "total volume 1" in r.stdout
+    assert (out / "stereonet.png").read_bytes()[:4] == b"\x89PNG"
     assert (out / "blocks.csv").read_text().splitlines()[1].startswith("0,cube,1,")
     assert (out / "blocks.vtu").is_file() and not (out / "summary.json").exists()
 
@@ -160,3 +161,11 @@ def test_diagnostics_are_written_per_step(tmp_path):
     lines = (out / "diagnostics.csv").read_text().splitlines()
     assert lines[0] == "time,step,dt,cuts,displacement_ratio,unbalanced_force_ratio"
     assert len(lines) == json.loads((out / "summary.json").read_text())["steps"] + 1
+
+
+def test_inward_polyhedron_is_named(tmp_path):
+    text = GOOD.replace("shape = { box = { min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0] } }",
+                        "shape = { polyhedron = { vertices = [[0,0,0],[1,0,0],[0,1,0],[0,0,1]], "
+                        "faces = [[0,1,2],[0,3,1],[0,2,3],[1,3,2]] } }")
+    r = nmm3d("check", str(write(tmp_path, text)))
+    assert r.returncode == 2 and "oriented inwards" in r.stderr, r.stderr

@@ -57,11 +57,18 @@ def _check(args: argparse.Namespace) -> int:
 
 
 def _blocks(args: argparse.Namespace) -> int:
-    r = load(args.file, args.overrides).write_blocks(args.out)
-    print(f"{r['blocks']} blocks, total volume {r['total_volume']:.6g} m³ "
-          f"(mean {r['mean_volume']:.6g}, min {r['min_volume']:.6g}, max {r['max_volume']:.6g} m³); "
-          f"smallest block: id {r['smallest_block']}; excavated volume {r['excavated_volume']:.6g} m³")
-    print(f"wrote {args.out / 'blocks.csv'} and {args.out / 'blocks.vtu'}")
+    from nmm3d.stereonet import plot_stereonet
+
+    scenario = load(args.file, args.overrides)
+    r = scenario.write_blocks(args.out)
+    print(f"{r['blocks']} blocks ({r['non_convex_blocks']} non-convex, {r['pieces']} convex pieces), "
+          f"total volume {r['total_volume']:.6g} m³ (mean {r['mean_volume']:.6g}, min {r['min_volume']:.6g}, "
+          f"max {r['max_volume']:.6g} m³)")
+    print(f"smallest block: id {r['smallest_block']} ({r['min_volume']:.6g} m³); excavated volume "
+          f"{r['excavated_volume']:.6g} m³; slivers merged {r['slivers_merged']}, dropped {r['slivers_dropped']}; "
+          f"cut in {r['cutting_seconds']:.2f} s")
+    plot_stereonet(scenario.to_dict(), args.out / "stereonet.png", title=str(args.file.name))
+    print(f"wrote {args.out / 'blocks.csv'}, {args.out / 'blocks.vtu'} and {args.out / 'stereonet.png'}")
     return EXIT_OK
 
 

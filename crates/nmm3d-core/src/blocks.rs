@@ -1,6 +1,4 @@
-//! `nmm3d blocks`: the blocks of a scenario and their report, without running.
-//! (This version does not cut bodies: each convex body is one block; cutting by joint sets and
-//! excavations extends this module.)
+//! `nmm3d blocks`: cut the rock mass and report the blocks, without running.
 
 use std::path::Path;
 
@@ -13,7 +11,9 @@ use crate::scenario::Scenario;
 
 /// Build the blocks, write `blocks.csv` and `blocks.vtu` to `out`, return the report.
 pub fn report(scenario: &Scenario, out: &Path) -> Result<Value> {
+    let t = std::time::Instant::now();
     let geometry = Geometry::from_scenario(scenario);
+    let cutting_seconds = t.elapsed().as_secs_f64();
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
     tables::write_block_rows(scenario, &geometry, out)?;
     vtu::write_blocks(&geometry, &out.join("blocks.vtu"))?;
@@ -28,8 +28,33 @@ pub fn report(scenario: &Scenario, out: &Path) -> Result<Value> {
         "min_volume": vmin,
         "max_volume": vmax,
         "smallest_block": imin,
-        "excavated_volume": 0.0,
+        "excavated_volume": geometry.report.excavated_volume,
+        "slivers_merged": geometry.report.slivers_merged,
+        "slivers_dropped": geometry.report.slivers_dropped,
+        "pieces": geometry.blocks.iter().map(|b| b.pieces.len()).sum::<usize>(),
+        "non_convex_blocks": geometry.blocks.iter().filter(|b| b.pieces.len() > 1).count(),
+        "cutting_seconds": cutting_seconds,
     }))
+}
+
+/// Build the blocks and their covers only (no element matrices): counts and seconds per stage.
+pub fn cover_report(scenario: &Scenario) -> Value {
+    let t = std::time::Instant::now();
+    let geometry = Geometry::from_scenario(scenario);
+    let cutting = t.elapsed().as_secs_f64();
+    let t = std::time::Instant::now();
+    let c = &scenario.cover;
+    let ext = geometry.aabb().extent();
+    let size = c.size.unwrap_or(0.1 * ext.x.min(ext.y).min(ext.z));
+    let mesh = crate::cover::MathMesh::new(size, nmm3d_geom::Vec3::from(c.origin), c.rotation);
+    let covers = crate::cover::Covers::build(&geometry, mesh, crate::cover::PatternTable::new(c.pattern));
+    json!({
+        "blocks": geometry.blocks.len(),
+        "manifold_elements": covers.elements.len(),
+        "physical_covers": covers.covers.len(),
+        "cutting_seconds": cutting,
+        "covers_seconds": t.elapsed().as_secs_f64(),
+    })
 }
 
 /// The block table (id, body, volume, centroid, fixed) as JSON arrays.

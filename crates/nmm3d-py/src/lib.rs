@@ -55,6 +55,15 @@ fn blocks_json(py: Python<'_>, text: String, label: String, out: Option<PathBuf>
     Ok(v.to_string())
 }
 
+/// Cut the rock mass and build its covers (no element matrices); counts and seconds as JSON.
+#[pyfunction]
+fn cover_report_json(py: Python<'_>, text: String, label: String) -> PyResult<String> {
+    let v = py
+        .detach(|| scenario::from_json_str(&text, &label, &[]).map(|s| nmm3d_core::blocks::cover_report(&s)))
+        .map_err(errors::to_py)?;
+    Ok(v.to_string())
+}
+
 /// The native module `nmm3d._core`.
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -62,6 +71,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(load_json, m)?)?;
     m.add_function(wrap_pyfunction!(run_json, m)?)?;
     m.add_function(wrap_pyfunction!(blocks_json, m)?)?;
+    m.add_function(wrap_pyfunction!(cover_report_json, m)?)?;
     m.add("NmmError", m.py().get_type::<errors::NmmError>())?;
     m.add("ScenarioError", m.py().get_type::<errors::ScenarioError>())?;
     m.add("RunError", m.py().get_type::<errors::RunError>())?;

@@ -8,6 +8,8 @@
 
 use std::collections::HashMap;
 
+use rayon::prelude::*;
+
 use nmm3d_geom::{integrate, ConvexPolyhedron, FaceTag, Vec3};
 
 use super::manifold_element::ManifoldElement;
@@ -40,10 +42,14 @@ impl Covers {
     /// Build MEs and physical covers of every block.
     pub fn build(geometry: &Geometry, mesh: MathMesh, pattern: PatternTable) -> Self {
         let full_moments = full_subcell_moments(&pattern);
-        let mut elements = Vec::new();
-        for (b, block) in geometry.blocks.iter().enumerate() {
-            elements.extend(block_elements(b, block, &mesh, &pattern, &full_moments));
-        }
+        // Blocks are independent; collecting in block order keeps the numbering deterministic.
+        let per_block: Vec<Vec<ManifoldElement>> = geometry
+            .blocks
+            .par_iter()
+            .enumerate()
+            .map(|(b, block)| block_elements(b, block, &mesh, &pattern, &full_moments))
+            .collect();
+        let elements: Vec<ManifoldElement> = per_block.into_iter().flatten().collect();
         let (elements, covers) = number_covers(elements, &mesh, &pattern);
         Self { mesh, pattern, elements, covers }
     }
@@ -82,6 +88,11 @@ fn needed(pattern: &PatternTable) -> Vec<usize> {
 
 /// Moments over `p` for the needed exponents, NaN elsewhere.
 pub fn moments(p: &ConvexPolyhedron, pattern: &PatternTable) -> [f64; TERMS] {
+    if !pattern.is_linear() {
+        // All 27 at once (the series form of the closed formula); same index a + 3b + 9c.
+        let all = integrate::polyhedron_box_moments(p, 2);
+        return std::array::from_fn(|k| all[k]);
+    }
     let idx = needed(pattern);
     let exps: Vec<_> = idx.iter().map(|&k| poly::exponent(k)).collect();
     let vals = integrate::polyhedron_moments(p, &exps);

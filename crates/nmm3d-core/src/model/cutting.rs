@@ -228,40 +228,114 @@ fn overlap_area(a: &Face, b: &Face, size: f64) -> f64 {
     polygon::area_vector(&polygon::intersect_convex(&a.vertices, &b.vertices, &(-n), 1e-12 * size)).norm()
 }
 
-/// Merge or drop blocks smaller than `ratio` × their largest neighbour.
+/// Merge or drop blocks smaller than `ratio` × their largest neighbour. Volumes are computed
+/// once; neighbours are found through a uniform grid of block boxes, so the cost grows with
+/// the number of slivers, not with the square of the number of blocks.
 fn merge_slivers(blocks: &mut Vec<RawBlock>, ratio: f64, report: &mut CutReport) {
     if ratio <= 0.0 || blocks.len() < 2 {
         return;
     }
-    let largest = blocks.iter().map(RawBlock::volume).fold(0.0, f64::max);
-    let model_size = blocks.iter().map(|b| b.aabb()).reduce(|a, b| a.union(&b)).map_or(1.0, |b| b.diagonal());
-    // Candidates that keep their own identity (their neighbours are not much larger).
-    let mut keep: Vec<bool> = vec![false; blocks.len()];
-    loop {
-        let vols: Vec<f64> = blocks.iter().map(RawBlock::volume).collect();
-        let Some(s) = (0..blocks.len()).filter(|&i| !keep[i] && vols[i] < ratio * largest).min_by(|&a, &b| vols[a].total_cmp(&vols[b])) else { break };
-        let size = model_size;
-        let grown = blocks[s].aabb();
-        let sb = Aabb { min: grown.min - Vec3::repeat(1e-9 * size), max: grown.max + Vec3::repeat(1e-9 * size) };
-        let neighbour = (0..blocks.len())
-            .filter(|&j| j != s && blocks[j].body == blocks[s].body && blocks[j].aabb().overlaps(&sb))
-            .filter(|&j| shared_area(&blocks[s], &blocks[j], size) > 0.0)
-            .max_by(|&a, &b| vols[a].total_cmp(&vols[b]));
-        match neighbour {
+    let mut vols: Vec<f64> = blocks.par_iter().map(RawBlock::volume).collect();
+    let largest = vols.iter().cloned().fold(0.0, f64::max);
+    let mut candidates: Vec<usize> = (0..blocks.len()).filter(|&i| vols[i] < ratio * largest).collect();
+    if candidates.is_empty() {
+        return;
+    }
+    candidates.sort_by(|&a, &b| vols[a].total_cmp(&vols[b]).then(a.cmp(&b)));
+    let boxes: Vec<Aabb> = blocks.par_iter().map(RawBlock::aabb).collect();
+    let model = boxes.iter().copied().reduce(|a, b| a.union(&b)).expect("blocks");
+    let size = model.diagonal();
+    let grid = BoxGrid::new(&boxes, (largest.cbrt()).max(1e-9 * size));
+    let pad = Vec3::repeat(1e-9 * size);
+    let mut alive = vec![true; blocks.len()];
+    let mut owner: Vec<usize> = (0..blocks.len()).collect();
+    for s in candidates {
+        if !alive[s] {
+            continue;
+        }
+        let sb = Aabb { min: boxes[s].min - pad, max: boxes[s].max + pad };
+        let mut best: Option<usize> = None;
+        for j in grid.query(&sb) {
+            let j = root(&owner, j);
+            if j == s || !alive[j] || blocks[j].body != blocks[s].body || best.is_some_and(|b| vols[b] >= vols[j]) {
+                continue;
+            }
+            if shared_area(&blocks[s], &blocks[j], size) > 0.0 {
+                best = Some(j);
+            }
+        }
+        match best {
             Some(j) if vols[s] < ratio * vols[j] => {
-                let sliver = blocks.remove(s);
-                let _ = keep.remove(s);
-                let j = if j > s { j - 1 } else { j };
+                let body = blocks[s].body;
+                let sliver = std::mem::replace(&mut blocks[s], RawBlock { body, pieces: Vec::new() });
                 glue_together(&mut blocks[j], sliver, size);
+                vols[j] += vols[s];
+                alive[s] = false;
+                owner[s] = j;
                 report.slivers_merged += 1;
             }
-            Some(_) => keep[s] = true,
+            Some(_) => {}
             None => {
-                let _ = blocks.remove(s);
-                let _ = keep.remove(s);
+                alive[s] = false;
                 report.slivers_dropped += 1;
             }
         }
+    }
+    let mut k = 0;
+    blocks.retain(|_| {
+        k += 1;
+        alive[k - 1]
+    });
+}
+
+/// The block that absorbed `i` (following merges).
+fn root(owner: &[usize], mut i: usize) -> usize {
+    while owner[i] != i {
+        i = owner[i];
+    }
+    i
+}
+
+/// Uniform grid of boxes for overlap queries.
+struct BoxGrid {
+    cell: f64,
+    map: std::collections::HashMap<[i64; 3], Vec<usize>>,
+}
+
+impl BoxGrid {
+    fn new(boxes: &[Aabb], cell: f64) -> Self {
+        let mut map: std::collections::HashMap<[i64; 3], Vec<usize>> = std::collections::HashMap::new();
+        for (i, b) in boxes.iter().enumerate() {
+            let (lo, hi) = (Self::key(&b.min, cell), Self::key(&b.max, cell));
+            for x in lo[0]..=hi[0] {
+                for y in lo[1]..=hi[1] {
+                    for z in lo[2]..=hi[2] {
+                        map.entry([x, y, z]).or_default().push(i);
+                    }
+                }
+            }
+        }
+        Self { cell, map }
+    }
+
+    fn key(p: &Vec3, cell: f64) -> [i64; 3] {
+        [(p.x / cell).floor() as i64, (p.y / cell).floor() as i64, (p.z / cell).floor() as i64]
+    }
+
+    /// Indices of boxes sharing a grid cell with `b`, ascending, without repeats.
+    fn query(&self, b: &Aabb) -> Vec<usize> {
+        let (lo, hi) = (Self::key(&b.min, self.cell), Self::key(&b.max, self.cell));
+        let mut out = Vec::new();
+        for x in lo[0]..=hi[0] {
+            for y in lo[1]..=hi[1] {
+                for z in lo[2]..=hi[2] {
+                    out.extend(self.map.get(&[x, y, z]).into_iter().flatten().copied());
+                }
+            }
+        }
+        out.sort_unstable();
+        out.dedup();
+        out
     }
 }
 

@@ -40,6 +40,13 @@ pub fn shape_to_pieces(shape: &Shape) -> Result<Vec<ConvexPolyhedron>, ShapeErro
 fn polyhedron(vertices: &[[f64; 3]], faces: &[Vec<usize>]) -> Result<Vec<ConvexPolyhedron>, ShapeError> {
     let vs: Vec<Vec3> = vertices.iter().map(|v| Vec3::from(*v)).collect();
     check_closed(&vs, faces).map_err(|e| (String::new(), e.to_string()))?;
+    let signed: f64 = ConvexPolyhedron {
+        faces: faces.iter().map(|f| Face { vertices: f.iter().map(|&i| vs[i]).collect(), tag: tags::body_face(0) }).collect(),
+    }
+    .volume();
+    if signed < 0.0 {
+        return Err((".faces".into(), "the faces are oriented inwards: list each face's vertices counter-clockwise seen from outside".into()));
+    }
     match ConvexPolyhedron::from_vertices_faces(&vs, faces) {
         Ok(p) => Ok(vec![p]),
         Err(GeomError::NotConvex { .. }) => {
