@@ -21,6 +21,10 @@ CASES = {
     "cantilever_self_weight.toml": [],
     "plate_self_weight.toml": ["cover.size=0.1"],
     "plate_large_deflection.toml": ["cover.size=0.1"],
+    # Rock masses: the blocks are checked below; until contact exists a short run proves the
+    # scenario runs end to end.
+    "tunnel_key_blocks.toml": ["analysis.duration=0.002"],
+    "rock_slope.toml": ["analysis.duration=0.002"],
 }
 
 
@@ -76,3 +80,22 @@ def test_plates(results):
     assert 0.6 * 5.61e-3 < w < 5.61e-3
     w = -final(results, "plate_large_deflection.toml", "centre.displacement.z")
     assert 0.25 < w < 0.42
+
+
+def test_rock_mass_examples_match_the_thesis_description(tmp_path):
+    tunnel = nmm3d.load(EXAMPLES / "tunnel_key_blocks.toml").write_blocks(tmp_path / "t")
+    # Thesis: 277.45 m³ of rock and 25.65 m³ excavated.
+    assert tunnel["total_volume"] == pytest.approx(277.45, rel=0.01)
+    assert tunnel["excavated_volume"] == pytest.approx(25.65, rel=0.02)
+    assert tunnel["non_convex_blocks"] > 0
+    b = nmm3d.load(EXAMPLES / "rock_slope.toml").blocks()
+    layer = b["body"] == "layer"
+    # Thesis: about 45 potentially sliding blocks of 1.23 m³ on average.
+    assert 40 <= layer.sum() <= 50
+    assert b["volume"][layer].mean() == pytest.approx(1.23, rel=0.3)
+
+
+def test_rock_mass_examples_run(results):
+    for name in ("tunnel_key_blocks.toml", "rock_slope.toml"):
+        assert results[name].completed, results[name].summary["message"]
+        assert results[name].summary["blocks"] > 20
