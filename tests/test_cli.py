@@ -169,3 +169,46 @@ def test_inward_polyhedron_is_named(tmp_path):
                         "faces = [[0,1,2],[0,3,1],[0,2,3],[1,3,2]] } }")
     r = nmm3d("check", str(write(tmp_path, text)))
     assert r.returncode == 2 and "oriented inwards" in r.stderr, r.stderr
+
+
+ROCK = GOOD + """
+[[joint_set]]
+dip = 60.0
+dip_direction = 30.0
+spacing = 0.4
+
+[[excavation]]
+shape = { tunnel = { profile = "circular", radius = 0.2, start = [0.5, -1.0, 0.5], end = [0.5, 2.0, 0.5] } }
+"""
+
+
+@pytest.mark.parametrize(
+    "old, new, path, reason",
+    [
+        ("dip = 60.0", "dip = 95.0", "joint_set[0].dip", "[0, 90]"),
+        ("spacing = 0.4", "spacing = 0.0", "joint_set[0].spacing", "> 0"),
+        ("spacing = 0.4", "spacing = 0.4\nbodies = [\"ghost\"]", "joint_set[0].bodies", "ghost"),
+        ("end = [0.5, 2.0, 0.5]", "end = [0.5, -1.0, 0.5]", "excavation[0].shape.tunnel", "zero length"),
+        ("radius = 0.2", "radius = 0.0", "excavation[0].shape.tunnel", "radius"),
+        ("profile = \"circular\"", "profile = \"oval\"", "excavation[0].shape.tunnel", "oval"),
+    ],
+)
+def test_bad_rock_mass_input_exits_2(tmp_path, old, new, path, reason):
+    assert old in ROCK
+    r = nmm3d("blocks", str(write(tmp_path, ROCK.replace(old, new, 1))), "--out", str(tmp_path / "b"))
+    assert r.returncode == 2, r.stderr
+    assert path in r.stderr and reason in r.stderr, r.stderr
+
+
+def test_polyhedron_not_closed_exits_2(tmp_path):
+    text = GOOD.replace("shape = { box = { min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0] } }",
+                        "shape = { polyhedron = { vertices = [[0,0,0],[1,0,0],[0,1,0],[0,0,1]], "
+                        "faces = [[0,2,1],[0,1,3],[0,3,2]] } }")
+    r = nmm3d("check", str(write(tmp_path, text)))
+    assert r.returncode == 2 and "body.cube.shape.polyhedron" in r.stderr and "not closed" in r.stderr, r.stderr
+
+
+def test_rock_mass_blocks_of_the_small_scenario(tmp_path):
+    r = nmm3d("blocks", str(write(tmp_path, ROCK)), "--out", str(tmp_path / "b"))
+    assert r.returncode == 0, r.stderr
+    assert "excavated volume" in r.stdout
