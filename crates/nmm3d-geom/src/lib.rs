@@ -14,6 +14,7 @@
 
 pub mod aabb;
 pub mod clip;
+pub mod contact;
 pub mod decompose;
 pub mod error;
 pub mod integrate;
