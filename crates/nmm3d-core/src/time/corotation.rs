@@ -46,25 +46,39 @@ pub fn element_stress(sys: &System, state: &State, e: usize) -> Mat3 {
     let r = state.rotations[e];
     let u = local_displacements(sys, state, e, &r);
     let corotational = r * local_stress(sys, e, &u) * r.transpose();
-    if sys.scenario.analysis.strain_measure != crate::scenario::StrainMeasure::GreenLagrange {
-        return corotational;
+    match green_lagrange(sys, state, e, &u) {
+        // Replace the linear mean stress by the Cauchy stress F S Fᵀ / J of St Venant–Kirchhoff.
+        Some((f, svk, linear)) => corotational - r * linear * r.transpose() + f * svk * f.transpose() / f.determinant(),
+        None => corotational,
     }
-    // Replace the linear mean stress by the Cauchy stress F S Fᵀ / J of St Venant–Kirchhoff.
-    let k = sys.kernel(e);
-    let mat = &sys.geometry.materials[sys.geometry.blocks[sys.covers.elements[e].block].material];
+}
+
+fn material(sys: &System, e: usize) -> &crate::model::Elastic {
+    &sys.geometry.materials[sys.geometry.blocks[sys.covers.elements[e].block].material]
+}
+
+/// Symmetric mean strain of ME `e` from its local displacements.
+fn mean_strain(sys: &System, e: usize, u: &[Vec3]) -> Mat3 {
+    let grad: Mat3 = u.iter().zip(&sys.kernel(e).mean_gradient).map(|(ua, g)| ua * g.transpose()).sum();
+    0.5 * (grad + grad.transpose())
+}
+
+/// With `strain_measure = "green_lagrange"`: the ME's mean deformation gradient F̄, the second
+/// Piola–Kirchhoff stress S(Ē) of its Green–Lagrange strain, and the linear (local) stress it
+/// replaces.
+fn green_lagrange(sys: &System, state: &State, e: usize, u: &[Vec3]) -> Option<(Mat3, Mat3, Mat3)> {
+    if sys.scenario.analysis.strain_measure != crate::scenario::StrainMeasure::GreenLagrange {
+        return None;
+    }
+    let mat = material(sys, e);
     let f = deformation_gradient(sys, state, e);
     let green = 0.5 * (f.transpose() * f - Mat3::identity());
-    let grad: Mat3 = u.iter().zip(&k.mean_gradient).map(|(ua, g)| ua * g.transpose()).sum();
-    let linear = r * hooke(mat, &(0.5 * (grad + grad.transpose()))) * r.transpose();
-    corotational - linear + f * hooke(mat, &green) * f.transpose() / f.determinant()
+    Some((f, hooke(mat, &green), hooke(mat, &mean_strain(sys, e, u))))
 }
 
 /// Co-rotated (local) volume-mean stress of ME `e` from its local displacements.
 fn local_stress(sys: &System, e: usize, u: &[Vec3]) -> Mat3 {
-    let k = sys.kernel(e);
-    let grad: Mat3 = u.iter().zip(&k.mean_gradient).map(|(ua, g)| ua * g.transpose()).sum();
-    let mat = &sys.geometry.materials[sys.geometry.blocks[sys.covers.elements[e].block].material];
-    stress_matrix(&sys.initial_stress[e]) + hooke(mat, &(0.5 * (grad + grad.transpose())))
+    stress_matrix(&sys.initial_stress[e]) + hooke(material(sys, e), &mean_strain(sys, e, u))
 }
 
 /// Tensile part of a symmetric stress (negative principal stresses set to zero).
@@ -110,16 +124,7 @@ pub fn internal_force_and_tangent(sys: &System, state: &State, e: usize, r: &Mat
 /// mean (constant-strain) part of the element taken to St Venant–Kirchhoff; zero at small
 /// strain, exact SVK for linear covers, bending of hex8 left co-rotational.
 fn large_strain_correction(sys: &System, state: &State, e: usize, r: &Mat3, u: &[Vec3]) -> Option<Mat3> {
-    if sys.scenario.analysis.strain_measure != crate::scenario::StrainMeasure::GreenLagrange {
-        return None;
-    }
-    let k = sys.kernel(e);
-    let mat = &sys.geometry.materials[sys.geometry.blocks[sys.covers.elements[e].block].material];
-    let f = deformation_gradient(sys, state, e);
-    let green = 0.5 * (f.transpose() * f - Mat3::identity());
-    let grad: Mat3 = u.iter().zip(&k.mean_gradient).map(|(ua, g)| ua * g.transpose()).sum();
-    let linear = hooke(mat, &(0.5 * (grad + grad.transpose())));
-    Some(k.volume * (f * hooke(mat, &green) - r * linear))
+    green_lagrange(sys, state, e, u).map(|(f, svk, linear)| sys.kernel(e).volume * (f * svk - r * linear))
 }
 
 /// 3 × 3 block (a, b) of a row-major (3n)² matrix.
