@@ -14,6 +14,7 @@
 
 pub mod assembly;
 pub mod blocks;
+pub mod contact;
 pub mod cover;
 pub mod element;
 pub mod error;

@@ -31,6 +31,8 @@ pub struct Covers {
     pub elements: Vec<ManifoldElement>,
     /// Physical covers, numbered by first appearance in `elements`.
     pub covers: Vec<PhysicalCover>,
+    /// MEs of each cell, for locating points.
+    pub by_cell: HashMap<[i32; 3], Vec<usize>>,
 }
 
 /// Relative tolerance of the "cell strictly inside the piece" test (× piece diagonal).
@@ -51,7 +53,11 @@ impl Covers {
             .collect();
         let elements: Vec<ManifoldElement> = per_block.into_iter().flatten().collect();
         let (elements, covers) = number_covers(elements, &mesh, &pattern);
-        Self { mesh, pattern, elements, covers }
+        let mut by_cell: HashMap<[i32; 3], Vec<usize>> = HashMap::new();
+        for (i, e) in elements.iter().enumerate() {
+            by_cell.entry(e.cell).or_default().push(i);
+        }
+        Self { mesh, pattern, elements, covers, by_cell }
     }
 
 
@@ -65,13 +71,25 @@ impl Covers {
         self.mesh.to_local(x) - cell_corner(e.cell)
     }
 
-    /// The ME containing a reference point of block `block` (`None` if outside).
+    /// The ME containing a reference point of block `block` (`None` if outside): the point's
+    /// cell and, for points on a cell face or edge, its neighbours are searched.
     pub fn locate(&self, block: usize, x: &Vec3, tol: f64) -> Option<usize> {
         let local = self.mesh.to_local(x);
         let t = tol / self.mesh.size;
-        self.elements
-            .iter()
-            .position(|e| e.block == block && e.contains(&(local - cell_corner(e.cell)), t))
+        let c = self.mesh.cell_of(&local);
+        let mut candidates: Vec<usize> = Vec::new();
+        for dk in -1..=1 {
+            for dj in -1..=1 {
+                for di in -1..=1 {
+                    candidates.extend(self.by_cell.get(&[c[0] + di, c[1] + dj, c[2] + dk]).into_iter().flatten());
+                }
+            }
+        }
+        candidates.sort_unstable();
+        candidates.into_iter().find(|&i| {
+            let e = &self.elements[i];
+            e.block == block && e.contains(&(local - cell_corner(e.cell)), t)
+        })
     }
 }
 

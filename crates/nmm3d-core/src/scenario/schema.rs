@@ -139,6 +139,10 @@ pub struct Analysis {
     pub divergence_ratio: f64,
     /// Fill-reducing ordering of the sparse factorisation.
     pub ordering: Ordering,
+    /// Open–close iterations per step before the step is cut.
+    pub max_open_close: u32,
+    /// Factor applied to Δt when the open–close iteration does not settle [-].
+    pub open_close_cut: f64,
     /// Strain measure: "corotational" (small strain in each ME's rotated frame) or
     /// "green_lagrange" (St Venant–Kirchhoff for large strains).
     pub strain_measure: StrainMeasure,
@@ -191,6 +195,8 @@ impl Default for Analysis {
             divergence_ratio: 1e3,
             strain_measure: StrainMeasure::Corotational,
             ordering: Ordering::Auto,
+            max_open_close: 12,
+            open_close_cut: 0.3,
         }
     }
 }
@@ -274,6 +280,9 @@ impl Default for CoverSpec {
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct ContactSpec {
+    /// Contact between blocks (addition; off by default until the contact treatment is
+    /// complete — see docs/theory/contact.md).
+    pub enabled: bool,
     /// Normal penalty [N/m] or "auto".
     pub normal_stiffness: Stiffness,
     /// Shear penalty [N/m] or "auto".

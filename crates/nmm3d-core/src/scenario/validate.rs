@@ -88,6 +88,12 @@ fn analysis(c: &mut Checker, a: &Analysis) {
     if !(a.target_displacement_ratio > 0.0 && a.target_displacement_ratio <= 1.0) {
         c.fail("analysis.target_displacement_ratio", "must be in (0, 1]");
     }
+    if a.max_open_close == 0 {
+        c.fail("analysis.max_open_close", "must be at least 1");
+    }
+    if !(a.open_close_cut > 0.0 && a.open_close_cut < 1.0) {
+        c.fail("analysis.open_close_cut", "must lie in (0, 1)");
+    }
     if a.integrator == Integrator::Newmark {
         c.positive("analysis.newmark_beta", a.newmark_beta);
         if !(a.newmark_gamma >= 0.5) {

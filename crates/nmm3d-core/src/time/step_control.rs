@@ -38,6 +38,13 @@ pub fn judge(a: &Analysis, dt: f64, r: f64) -> Verdict {
     if r <= a.divergence_ratio { Verdict::Accept } else { Verdict::Diverged }
 }
 
+/// Judge a trial whose open–close iteration did not settle: cut by `open_close_cut` (DDA
+/// cuts to 0.3 Δt), down to the smallest step, where the last iterate is accepted.
+pub fn judge_unsettled(a: &Analysis, dt: f64) -> Verdict {
+    let dt_min = a.min_dt_ratio * a.dt;
+    if dt > dt_min * (1.0 + 1e-12) { Verdict::Retry((dt * a.open_close_cut).max(dt_min)) } else { Verdict::Accept }
+}
+
 /// Step size after an accepted step of size `dt` with ratio `r`.
 pub fn next_dt(a: &Analysis, dt: f64, r: f64) -> f64 {
     let grow = if r > 0.0 { (a.target_displacement_ratio / r).min(a.max_dt_growth) } else { a.max_dt_growth };

@@ -12,7 +12,14 @@ use nmm3d_geom::Vec3;
 use super::corotation;
 use super::integrator::Newmark;
 use super::step_control::{self, Verdict};
+use std::collections::BTreeSet;
+
+use crate::assembly::assembler::masters_of;
+use crate::assembly::{Assembler, SparsityPattern};
+use crate::contact::{ContactParams, ContactSet};
 use crate::error::{Error, Result};
+use crate::scenario::Stiffness;
+use crate::system::expand_mass;
 use crate::scenario::AnalysisKind;
 use crate::solver::{FaerCholesky, LinearSolver};
 use crate::state::State;
@@ -21,6 +28,12 @@ use crate::system::System;
 /// Diagnostics of one accepted step.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct StepReport {
+    /// Contact points detected at the start of the step.
+    pub contacts: usize,
+    /// Open–close iterations of the accepted trial.
+    pub open_close: u32,
+    /// Largest penetration after the step [m].
+    pub max_penetration: f64,
     /// Accepted step [s].
     pub dt: f64,
     /// Rejected trials before acceptance.
@@ -45,10 +58,15 @@ pub struct PhaseTimes {
 /// Orchestrates steps; owns the linear solver and work buffers.
 pub struct Stepper {
     solver: Box<dyn LinearSolver>,
+    assembler: Assembler,
+    mass_values: Vec<f64>,
+    contacts: Option<ContactSet>,
+    contact_pairs: BTreeSet<(usize, usize)>,
     newmark: Newmark,
     tangent: Vec<f64>,
     values: Vec<f64>,
     force_scale: f64,
+    needs_reassembly: bool,
     /// Time per phase so far.
     pub times: PhaseTimes,
 }
@@ -59,10 +77,15 @@ impl Stepper {
         let nnz = sys.assembler.pattern.nnz();
         Self {
             solver: Box::new(FaerCholesky::new(sys.scenario.analysis.ordering)),
+            assembler: sys.assembler.clone(),
+            mass_values: sys.mass_values.clone(),
+            contacts: if sys.scenario.contact.enabled { ContactSet::new(sys, contact_params(sys)) } else { None },
+            contact_pairs: BTreeSet::new(),
             newmark: Newmark::from_analysis(&sys.scenario.analysis),
             tangent: vec![0.0; nnz],
             values: vec![0.0; nnz],
             force_scale: 0.0,
+            needs_reassembly: false,
             times: PhaseTimes::default(),
         }
     }
@@ -77,7 +100,7 @@ impl Stepper {
         let residual = self.assemble(sys, state);
         self.force_scale = scale(sys, &residual).max(scale(sys, &sys.external));
         if sys.scenario.analysis.kind == AnalysisKind::Dynamic && self.newmark.uses_acceleration() && sys.n_eq() > 0 {
-            self.solver.factorize(&sys.assembler.pattern, &sys.mass_values).map_err(|r| Error::Solver { step: 0, reason: r })?;
+            self.solver.factorize(&self.assembler.pattern, &self.mass_values).map_err(|r| Error::Solver { step: 0, reason: r })?;
             let mut rhs = gather(sys, &residual);
             self.solver.solve(&mut rhs);
             scatter_into(sys, &rhs, &mut state.a);
@@ -96,48 +119,126 @@ impl Stepper {
         let residual = self.assemble(sys, state);
         let unbalanced = self.unbalanced_ratio(sys, &residual);
         let (mv, ma) = (mass_times(sys, &state.v), mass_times(sys, &state.a));
+        if let Some(c) = self.contacts.as_mut() {
+            c.detect(sys, state);
+        }
+        self.ensure_contact_pattern(sys);
+        let start_records = self.contacts.as_ref().map(|c| c.records.clone());
         self.times.assembly += t.elapsed().as_secs_f64();
         let analysis = &sys.scenario.analysis;
         let mut dt = state.dt.min(dt_cap);
         let mut cuts = 0;
         loop {
             let k = self.newmark.coefficients(dt);
-            let d = self.solve_trial(sys, state, &residual, &mv, &ma, k.c0, k.c1, k.c2)?;
+            if let (Some(c), Some(saved)) = (self.contacts.as_mut(), start_records.as_ref()) {
+                c.records = saved.clone();
+            }
+            let (d, iterations, settled) = self.open_close(sys, state, &residual, &mv, &ma, k.c0, k.c1, k.c2)?;
             let dmax = d.iter().map(|x| x.norm()).fold(0.0, f64::max);
             let ratio = dmax / (analysis.max_displacement_ratio * sys.half_size);
-            match step_control::judge(analysis, dt, ratio) {
+            let verdict = if settled { step_control::judge(analysis, dt, ratio) } else { step_control::judge_unsettled(analysis, dt) };
+            match verdict {
                 Verdict::Accept => {
                     self.accept(sys, state, &d, dt);
+                    let (contacts, max_penetration) = match self.contacts.as_mut() {
+                        Some(c) => {
+                            c.accept();
+                            (c.records.len(), c.max_penetration())
+                        }
+                        None => (0, 0.0),
+                    };
                     state.dt = step_control::next_dt(analysis, dt, ratio);
-                    return Ok(StepReport { dt, cuts, ratio, unbalanced });
+                    return Ok(StepReport { dt, cuts, ratio, unbalanced, contacts, open_close: iterations, max_penetration });
                 }
                 Verdict::Retry(smaller) => {
                     dt = smaller;
                     cuts += 1;
                 }
                 Verdict::Diverged => {
-                    return Err(Error::Diverged {
-                        step: state.step + 1,
-                        time: state.time,
-                        reason: format!("the step displacement ratio is {ratio:.3e} even at the smallest time step {dt:.3e} s"),
-                    })
+                    let why = if settled {
+                        format!("the step displacement ratio is {ratio:.3e} even at the smallest time step {dt:.3e} s")
+                    } else {
+                        format!("the open-close iteration did not settle within {} iterations even at the smallest time step {dt:.3e} s", analysis.max_open_close)
+                    };
+                    return Err(Error::Diverged { step: state.step + 1, time: state.time, reason: why });
                 }
             }
         }
     }
 
+    /// Solve, update contact states, repeat until no contact changes state.
+    #[allow(clippy::too_many_arguments)] // the Newmark coefficients travel together with the vectors they scale
+    fn open_close(&mut self, sys: &System, state: &State, residual: &[Vec3], mv: &[Vec3], ma: &[Vec3], c0: f64, c1: f64, c2: f64) -> Result<(Vec<Vec3>, u32, bool)> {
+        let max = sys.scenario.analysis.max_open_close;
+        for it in 1..=max {
+            let d = self.solve_trial(sys, state, residual, mv, ma, c0, c1, c2)?;
+            let changed = self.contacts.as_mut().map_or(0, |c| c.update_states(sys, &d));
+            if changed == 0 {
+                return Ok((d, it, true));
+            }
+            if it == max {
+                return Ok((d, it, false));
+            }
+        }
+        unreachable!("max_open_close ≥ 1")
+    }
+
+    /// Make the sparsity pattern hold every coupling of the detected contacts (rebuilt, with a
+    /// new symbolic factorisation, only when a new pair of MEs comes into contact).
+    fn ensure_contact_pattern(&mut self, sys: &System) {
+        let Some(c) = self.contacts.as_ref() else { return };
+        let pairs: BTreeSet<(usize, usize)> = c.records.iter().map(|r| (r.a.element.min(r.b.element), r.a.element.max(r.b.element))).collect();
+        if pairs.is_subset(&self.contact_pairs) {
+            return;
+        }
+        self.contact_pairs.extend(pairs);
+        let element_cliques: Vec<&[usize]> = sys.covers.elements.iter().map(|e| e.covers.as_slice()).collect();
+        let mut all: Vec<Vec<usize>> = element_cliques.iter().map(|c| masters_of(&sys.dofs, c).0).collect();
+        for &(a, b) in &self.contact_pairs {
+            let joined = [sys.covers.elements[a].covers.clone(), sys.covers.elements[b].covers.clone()].concat();
+            all.push(masters_of(&sys.dofs, &joined).0);
+        }
+        let pattern = SparsityPattern::from_cliques(&sys.dofs, sys.covers.covers.len(), all.iter().map(|c| c.as_slice()));
+        self.assembler = Assembler::new(pattern, &sys.dofs, &element_cliques);
+        self.mass_values = vec![0.0; self.assembler.pattern.nnz()];
+        for (e, me) in sys.covers.elements.iter().enumerate() {
+            self.assembler.add(&mut self.mass_values, e, &expand_mass(&sys.kernel(e).mass, me.covers.len()));
+        }
+        let nnz = self.assembler.pattern.nnz();
+        self.tangent = vec![0.0; nnz];
+        self.values = vec![0.0; nnz];
+        self.solver = Box::new(FaerCholesky::new(sys.scenario.analysis.ordering));
+        self.needs_reassembly = true;
+    }
+
     #[allow(clippy::too_many_arguments)] // the Newmark coefficients travel together with the vectors they scale
     fn solve_trial(&mut self, sys: &System, state: &State, residual: &[Vec3], mv: &[Vec3], ma: &[Vec3], c0: f64, c1: f64, c2: f64) -> Result<Vec<Vec3>> {
         let t = Instant::now();
-        for ((v, k), m) in self.values.iter_mut().zip(&self.tangent).zip(&sys.mass_values) {
+        if self.needs_reassembly {
+            // The pattern changed after this step's tangent was assembled: assemble it again.
+            let mut st = state.clone();
+            let _ = self.assemble(sys, &mut st);
+            self.needs_reassembly = false;
+        }
+        for ((v, k), m) in self.values.iter_mut().zip(&self.tangent).zip(&self.mass_values) {
             *v = k + c0 * m;
         }
+        let mut contact_force = vec![Vec3::zeros(); residual.len()];
+        if let Some(c) = self.contacts.as_ref() {
+            for (k, clique) in c.cliques(sys).iter().enumerate() {
+                let (mat, f) = c.local(sys, k);
+                self.assembler.add_general(&mut self.values, &sys.dofs, clique, &mat);
+                for (a, &cv) in clique.iter().enumerate() {
+                    contact_force[cv] += Vec3::new(f[3 * a], f[3 * a + 1], f[3 * a + 2]);
+                }
+            }
+        }
         self.solver
-            .factorize(&sys.assembler.pattern, &self.values)
+            .factorize(&self.assembler.pattern, &self.values)
             .map_err(|r| Error::Solver { step: state.step + 1, reason: r })?;
         self.times.factorization += t.elapsed().as_secs_f64();
         let t = Instant::now();
-        let rhs_cover: Vec<Vec3> = (0..residual.len()).map(|c| residual[c] + c1 * mv[c] + c2 * ma[c]).collect();
+        let rhs_cover: Vec<Vec3> = (0..residual.len()).map(|c| residual[c] + c1 * mv[c] + c2 * ma[c] + contact_force[c]).collect();
         let mut rhs = gather(sys, &rhs_cover);
         self.solver.solve(&mut rhs);
         let mut d = vec![Vec3::zeros(); residual.len()];
@@ -168,11 +269,14 @@ impl Stepper {
         self.tangent.iter_mut().for_each(|v| *v = 0.0);
         let mut residual = sys.external.clone();
         for e in 0..sys.covers.elements.len() {
+            if sys.geometry.blocks[sys.covers.elements[e].block].fixed {
+                continue; // its covers cannot move; its forces would go nowhere
+            }
             let f = corotation::deformation_gradient(sys, state, e);
             let r = corotation::rotation(&f, &state.rotations[e]);
             state.rotations[e] = r;
             let (fint, t) = corotation::internal_force_and_tangent(sys, state, e, &r);
-            sys.assembler.add(&mut self.tangent, e, &t);
+            self.assembler.add(&mut self.tangent, e, &t);
             for (a, &c) in sys.covers.elements[e].covers.iter().enumerate() {
                 residual[c] -= fint[a];
             }
@@ -202,7 +306,7 @@ impl Stepper {
                     }
                 }
             }
-            sys.assembler.add(&mut self.tangent, p.element, &local);
+            self.assembler.add(&mut self.tangent, p.element, &local);
         }
     }
 }
@@ -255,3 +359,26 @@ fn scatter_into(sys: &System, x: &[f64], out: &mut [Vec3]) {
         }
     }
 }
+
+/// Contact penalties and tolerances from the scenario ("auto": k_n = 10 × largest E × cover
+/// size, k_s = k_n; detection margin twice the largest step displacement).
+fn contact_params(sys: &System) -> ContactParams {
+    let a = &sys.scenario.analysis;
+    let young = sys.geometry.materials.iter().map(|m| m.young).fold(0.0, f64::max);
+    let size = sys.covers.mesh.size;
+    let kn = match sys.scenario.contact.normal_stiffness {
+        Stiffness::Value(v) => v,
+        Stiffness::Auto => CONTACT_PENALTY_FACTOR * young * size,
+    };
+    let ks = match sys.scenario.contact.shear_stiffness {
+        Stiffness::Value(v) => v,
+        Stiffness::Auto => kn,
+    };
+    let tolerance = CONTACT_TOLERANCE * size;
+    ContactParams { kn, ks, margin: 2.0 * a.max_displacement_ratio * sys.half_size + tolerance, tolerance }
+}
+
+/// "auto" normal penalty = this × largest Young's modulus × cover size.
+const CONTACT_PENALTY_FACTOR: f64 = 10.0;
+/// Support tolerance (and transfer distance / 10) as a fraction of the cover size.
+const CONTACT_TOLERANCE: f64 = 1e-3;

@@ -1,0 +1,106 @@
+//! Contact surfaces: each convex piece of each block, with every distinct vertex tied to the ME
+//! and weights that move it, so the current geometry follows the covers.
+
+use nmm3d_geom::{ConvexPolyhedron, Face, FaceTag, Vec3};
+
+use crate::element::loads::weights_at;
+use crate::state::State;
+use crate::system::System;
+
+/// A material point: the ME holding it and its weights (reference position kept).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MaterialPoint {
+    /// ME index.
+    pub element: usize,
+    /// Weight-function values, aligned with the ME's covers.
+    pub weights: Vec<f64>,
+    /// Reference position [m].
+    pub reference: Vec3,
+}
+
+impl MaterialPoint {
+    /// Locate a reference point of a block.
+    pub fn new(sys: &System, block: usize, x: Vec3) -> Option<Self> {
+        let tol = 1e-7 * sys.covers.mesh.size;
+        let e = sys.covers.locate(block, &x, tol)?;
+        Some(Self { element: e, weights: weights_at(&sys.covers, &sys.covers.elements[e], &x), reference: x })
+    }
+
+    /// Current displacement [m].
+    pub fn displacement(&self, sys: &System, state: &State) -> Vec3 {
+        sys.covers.elements[self.element].covers.iter().zip(&self.weights).map(|(&c, w)| *w * state.u[c]).sum()
+    }
+
+    /// Current position [m].
+    pub fn position(&self, sys: &System, state: &State) -> Vec3 {
+        self.reference + self.displacement(sys, state)
+    }
+}
+
+/// One convex piece as a contact surface.
+#[derive(Debug, Clone)]
+pub struct ContactPiece {
+    /// Block index.
+    pub block: usize,
+    /// Distinct vertices as material points.
+    pub vertices: Vec<MaterialPoint>,
+    /// Faces as vertex indices (outward, counter-clockwise), with their tags.
+    pub faces: Vec<(Vec<usize>, FaceTag)>,
+}
+
+impl ContactPiece {
+    /// From a reference piece of block `block` (`None` if a vertex cannot be located).
+    pub fn new(sys: &System, block: usize, piece: &ConvexPolyhedron) -> Option<Self> {
+        let refs = piece.vertices();
+        let tol = 1e-12 * piece.aabb().diagonal();
+        let vertices = refs.iter().map(|x| MaterialPoint::new(sys, block, *x)).collect::<Option<Vec<_>>>()?;
+        let faces = piece
+            .faces
+            .iter()
+            .map(|f| (f.vertices.iter().map(|v| refs.iter().position(|w| (w - v).norm() <= tol).expect("vertex")).collect(), f.tag))
+            .collect();
+        Some(Self { block, vertices, faces })
+    }
+
+    /// Current geometry.
+    pub fn current(&self, sys: &System, state: &State) -> ConvexPolyhedron {
+        let x: Vec<Vec3> = self.vertices.iter().map(|m| m.position(sys, state)).collect();
+        ConvexPolyhedron { faces: self.faces.iter().map(|(ids, tag)| Face { vertices: ids.iter().map(|&i| x[i]).collect(), tag: *tag }).collect() }
+    }
+
+    /// Reference position of a point `p` lying on the current surface `cur` (the same affine
+    /// combination of a face triangle's vertices, taken in the reference configuration).
+    pub fn reference_of(&self, cur: &ConvexPolyhedron, p: &Vec3) -> Vec3 {
+        let mut best = (f64::INFINITY, Vec3::zeros());
+        for (k, (ids, _)) in self.faces.iter().enumerate() {
+            let fv = &cur.faces[k].vertices;
+            for i in 1..ids.len() - 1 {
+                let (a, b, c) = (fv[0], fv[i], fv[i + 1]);
+                let (l, d) = barycentric(p, &a, &b, &c);
+                if d < best.0 {
+                    let r = |j: usize| self.vertices[ids[j]].reference;
+                    best = (d, l[0] * r(0) + l[1] * r(i) + l[2] * r(i + 1));
+                }
+            }
+        }
+        best.1
+    }
+}
+
+/// Barycentric coordinates of the point of triangle (a, b, c) nearest `p` (clamped), and the
+/// distance to it.
+fn barycentric(p: &Vec3, a: &Vec3, b: &Vec3, c: &Vec3) -> ([f64; 3], f64) {
+    let (e1, e2, d) = (b - a, c - a, p - a);
+    let (d11, d12, d22) = (e1.dot(&e1), e1.dot(&e2), e2.dot(&e2));
+    let (d1, d2) = (d.dot(&e1), d.dot(&e2));
+    let den = d11 * d22 - d12 * d12;
+    if den <= 0.0 {
+        return ([1.0, 0.0, 0.0], (p - a).norm());
+    }
+    let mut v = (d22 * d1 - d12 * d2) / den;
+    let mut w = (d11 * d2 - d12 * d1) / den;
+    v = v.clamp(0.0, 1.0);
+    w = w.clamp(0.0, 1.0 - v);
+    let q = a + v * e1 + w * e2;
+    ([1.0 - v - w, v, w], (p - q).norm())
+}
