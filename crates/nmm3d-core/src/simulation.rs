@@ -86,6 +86,9 @@ fn advance(sys: &System, state: &mut State, stepper: &mut Stepper, rec: &mut Rec
         let report = stepper.step(sys, state, cap)?;
         rec.last_unbalanced = report.unbalanced;
         rec.cuts += report.cuts as u64;
+        rec.max_penetration = rec.max_penetration.max(report.max_penetration);
+        rec.max_contacts = rec.max_contacts.max(report.contacts);
+        rec.open_close += report.open_close as u64;
         rec.diagnostics.push((state.time, state.step, report));
         if state.u.iter().any(|x| !x.iter().all(|c| c.is_finite())) {
             return Err(Error::Diverged { step: state.step, time: state.time, reason: "a displacement is not finite".into() });
@@ -114,6 +117,9 @@ struct Recorder {
     last_frame_step: Option<u64>,
     last_unbalanced: f64,
     cuts: u64,
+    max_penetration: f64,
+    max_contacts: usize,
+    open_close: u64,
     output_seconds: f64,
     last_history_write: Instant,
 }
@@ -136,6 +142,9 @@ impl Recorder {
             last_frame_step: None,
             last_unbalanced: f64::NAN,
             cuts: 0,
+            max_penetration: 0.0,
+            max_contacts: 0,
+            open_close: 0,
             output_seconds: 0.0,
             last_history_write: Instant::now(),
         }
@@ -214,7 +223,9 @@ fn summary(sys: &System, state: &State, stepper: &Stepper, rec: &Recorder, compl
         "manifold_elements": sys.covers.elements.len(),
         "physical_covers": sys.covers.covers.len(),
         "dofs": sys.n_eq(),
-        "max_penetration": 0.0,
+        "max_penetration": rec.max_penetration,
+        "max_contact_points": rec.max_contacts,
+        "open_close_iterations": rec.open_close,
         "step_cuts": rec.cuts,
         "unbalanced_force_ratio": rec.last_unbalanced,
         "stress_sign": "compression negative",
