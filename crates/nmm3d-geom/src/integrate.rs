@@ -219,6 +219,11 @@ mod tests {
     use crate::plane::Plane;
     use crate::polyhedron::FaceTag;
 
+    /// A tetrahedron with no symmetry, away from the origin.
+    fn skewed_tet() -> [Vec3; 4] {
+        [Vec3::new(0.1, 0.2, 0.3), Vec3::new(1.3, -0.2, 0.4), Vec3::new(0.2, 1.1, -0.3), Vec3::new(0.4, 0.3, 1.2)]
+    }
+
     fn all_exponents(max_each: u8) -> Vec<Exponent> {
         let mut v = Vec::new();
         for c in 0..=max_each {
@@ -250,12 +255,7 @@ mod tests {
 
     #[test]
     fn low_degree_closed_forms_agree_with_general_formula() {
-        let t = [
-            Vec3::new(0.1, 0.2, 0.3),
-            Vec3::new(1.3, -0.2, 0.4),
-            Vec3::new(0.2, 1.1, -0.3),
-            Vec3::new(0.4, 0.3, 1.2),
-        ];
+        let t = skewed_tet();
         let v = signed_tet_volume(&t);
         for e in all_exponents(2).into_iter().filter(|e| e.iter().sum::<u8>() <= 2) {
             let a = tet_monomial(&t, e);
@@ -293,12 +293,7 @@ mod tests {
 
     #[test]
     fn box_moment_table_matches_the_term_by_term_formula() {
-        let t = [
-            Vec3::new(0.1, 0.2, 0.3),
-            Vec3::new(1.3, -0.2, 0.4),
-            Vec3::new(0.2, 1.1, -0.3),
-            Vec3::new(0.4, 0.3, 1.2),
-        ];
+        let t = skewed_tet();
         let v = signed_tet_volume(&t);
         let table = tet_box_moments(&t, 2);
         for (k, e) in all_exponents(2).into_iter().enumerate() {

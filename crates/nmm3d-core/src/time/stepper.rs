@@ -66,7 +66,6 @@ pub struct Stepper {
     tangent: Vec<f64>,
     values: Vec<f64>,
     force_scale: f64,
-    needs_reassembly: bool,
     /// Time per phase so far.
     pub times: PhaseTimes,
 }
@@ -85,7 +84,6 @@ impl Stepper {
             tangent: vec![0.0; nnz],
             values: vec![0.0; nnz],
             force_scale: 0.0,
-            needs_reassembly: false,
             times: PhaseTimes::default(),
         }
     }
@@ -116,13 +114,14 @@ impl Stepper {
     /// One accepted step (possibly after cuts). `dt_cap` bounds the step (output times, end).
     pub fn step(&mut self, sys: &System, state: &mut State, dt_cap: f64) -> Result<StepReport> {
         let t = Instant::now();
-        let residual = self.assemble(sys, state);
-        let unbalanced = self.unbalanced_ratio(sys, &residual);
-        let (mv, ma) = (mass_times(sys, &state.v), mass_times(sys, &state.a));
+        // Contacts first: a new contact may change the pattern the tangent is assembled into.
         if let Some(c) = self.contacts.as_mut() {
             c.detect(sys, state);
         }
         self.ensure_contact_pattern(sys);
+        let residual = self.assemble(sys, state);
+        let unbalanced = self.unbalanced_ratio(sys, &residual);
+        let (mv, ma) = (mass_times(sys, &state.v), mass_times(sys, &state.a));
         let start_records = self.contacts.as_ref().map(|c| c.records.clone());
         self.times.assembly += t.elapsed().as_secs_f64();
         let analysis = &sys.scenario.analysis;
@@ -208,18 +207,11 @@ impl Stepper {
         self.tangent = vec![0.0; nnz];
         self.values = vec![0.0; nnz];
         self.solver = Box::new(FaerCholesky::new(sys.scenario.analysis.ordering));
-        self.needs_reassembly = true;
     }
 
     #[allow(clippy::too_many_arguments)] // the Newmark coefficients travel together with the vectors they scale
     fn solve_trial(&mut self, sys: &System, state: &State, residual: &[Vec3], mv: &[Vec3], ma: &[Vec3], c0: f64, c1: f64, c2: f64) -> Result<Vec<Vec3>> {
         let t = Instant::now();
-        if self.needs_reassembly {
-            // The pattern changed after this step's tangent was assembled: assemble it again.
-            let mut st = state.clone();
-            let _ = self.assemble(sys, &mut st);
-            self.needs_reassembly = false;
-        }
         for ((v, k), m) in self.values.iter_mut().zip(&self.tangent).zip(&self.mass_values) {
             *v = k + c0 * m;
         }
