@@ -360,22 +360,30 @@ fn glue_together(target: &mut RawBlock, mut sliver: RawBlock, size: f64) {
     target.pieces.extend(sliver.pieces);
 }
 
-/// A boundary face split into the parts shared with `others` (now glue) and the rest.
+/// A boundary face split into the parts shared with `others` (now glue) and the rest: each
+/// overlapping face of the other block carves its shared part off what remains.
 fn split_shared(f: Face, others: &[Face], eps: f64, size: f64) -> Vec<Face> {
     if !tags::is_boundary(f.tag) {
         return vec![f];
     }
-    let Some(o) = others.iter().find(|o| overlap_area(&f, o, size) > 0.0) else { return vec![f] };
-    let n = f.area_vector().normalize();
-    let shared = polygon::intersect_convex(&f.vertices, &o.vertices, &(-n), eps);
-    let mut out: Vec<Face> = polygon::difference_convex(&f.vertices, &o.vertices, &(-n), eps)
-        .into_iter()
-        .map(|v| Face { vertices: v, tag: f.tag })
-        .flat_map(|g| split_shared(g, &others.iter().filter(|x| !std::ptr::eq(*x, o)).cloned().collect::<Vec<_>>(), eps, size))
-        .collect();
-    if shared.len() >= 3 {
-        out.push(Face { vertices: shared, tag: tags::GLUE });
+    // `others` face the opposite way: they turn counter-clockwise about −n.
+    let minus_n = -f.area_vector().normalize();
+    let mut rest = vec![f.vertices.clone()];
+    let mut out = Vec::new();
+    for o in others.iter().filter(|o| overlap_area(&f, o, size) > 0.0) {
+        let mut next = Vec::new();
+        for poly in rest {
+            let shared = polygon::intersect_convex(&poly, &o.vertices, &minus_n, eps);
+            if shared.len() < 3 {
+                next.push(poly);
+                continue;
+            }
+            out.push(Face { vertices: shared, tag: tags::GLUE });
+            next.extend(polygon::difference_convex(&poly, &o.vertices, &minus_n, eps));
+        }
+        rest = next;
     }
+    out.extend(rest.into_iter().map(|v| Face { vertices: v, tag: f.tag }));
     out
 }
 
