@@ -156,7 +156,7 @@ impl ContactSet {
 
     /// Covers coupled by each contact (A's ME then B's ME).
     pub fn cliques(&self, sys: &System) -> Vec<Vec<usize>> {
-        self.records.iter().map(|r| [sys.covers.elements[r.a.element].covers.clone(), sys.covers.elements[r.b.element].covers.clone()].concat()).collect()
+        self.records.iter().map(|r| pair_clique(sys, r.a.element, r.b.element)).collect()
     }
 
     /// Local matrix (row-major, (3m)²) and force vector (3m) of record `k` in its clique order.
@@ -251,6 +251,11 @@ impl ContactSet {
 /// A new point whose gap is below this fraction of the support tolerance is touching (closed):
 /// round-off must not turn blocks placed on each other into a fall and an impact.
 const TOUCHING: f64 = 1e-6;
+
+/// The covers of two MEs, first then second (the clique a contact between them couples).
+pub fn pair_clique(sys: &System, a: usize, b: usize) -> Vec<usize> {
+    [sys.covers.elements[a].covers.as_slice(), sys.covers.elements[b].covers.as_slice()].concat()
+}
 
 /// Tangential projector I − n nᵀ.
 fn tangential(n: &Vec3) -> Mat3 {

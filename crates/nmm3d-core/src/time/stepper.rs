@@ -5,6 +5,7 @@
 //! symbolic analysis is reused), solve, judge the displacement ratio, and either accept
 //! (update positions, velocities, accelerations) or retry with a smaller Δt.
 
+use std::collections::BTreeSet;
 use std::time::Instant;
 
 use nmm3d_geom::Vec3;
@@ -12,18 +13,13 @@ use nmm3d_geom::Vec3;
 use super::corotation;
 use super::integrator::Newmark;
 use super::step_control::{self, Verdict};
-use std::collections::BTreeSet;
-
-use crate::assembly::assembler::masters_of;
-use crate::assembly::{Assembler, SparsityPattern};
-use crate::contact::{ContactParams, ContactSet};
+use crate::assembly::Assembler;
+use crate::contact::{pair_clique, ContactParams, ContactSet};
 use crate::error::{Error, Result};
-use crate::scenario::Stiffness;
-use crate::system::expand_mass;
-use crate::scenario::AnalysisKind;
+use crate::scenario::{AnalysisKind, Stiffness};
 use crate::solver::{FaerCholesky, LinearSolver};
 use crate::state::State;
-use crate::system::System;
+use crate::system::{pattern_and_mass, System};
 
 /// Diagnostics of one accepted step.
 #[derive(Debug, Clone, Copy, Default)]
@@ -154,12 +150,11 @@ impl Stepper {
                     cuts += 1;
                 }
                 Verdict::Diverged => {
-                    let why = if settled {
-                        format!("the step displacement ratio is {ratio:.3e} even at the smallest time step {dt:.3e} s")
-                    } else {
-                        format!("the open-close iteration did not settle within {} iterations even at the smallest time step {dt:.3e} s", analysis.max_open_close)
-                    };
-                    return Err(Error::Diverged { step: state.step + 1, time: state.time, reason: why });
+                    return Err(Error::Diverged {
+                        step: state.step + 1,
+                        time: state.time,
+                        reason: format!("the step displacement ratio is {ratio:.3e} even at the smallest time step {dt:.3e} s"),
+                    })
                 }
             }
         }
@@ -191,18 +186,8 @@ impl Stepper {
             return;
         }
         self.contact_pairs.extend(pairs);
-        let element_cliques: Vec<&[usize]> = sys.covers.elements.iter().map(|e| e.covers.as_slice()).collect();
-        let mut all: Vec<Vec<usize>> = element_cliques.iter().map(|c| masters_of(&sys.dofs, c).0).collect();
-        for &(a, b) in &self.contact_pairs {
-            let joined = [sys.covers.elements[a].covers.clone(), sys.covers.elements[b].covers.clone()].concat();
-            all.push(masters_of(&sys.dofs, &joined).0);
-        }
-        let pattern = SparsityPattern::from_cliques(&sys.dofs, sys.covers.covers.len(), all.iter().map(|c| c.as_slice()));
-        self.assembler = Assembler::new(pattern, &sys.dofs, &element_cliques);
-        self.mass_values = vec![0.0; self.assembler.pattern.nnz()];
-        for (e, me) in sys.covers.elements.iter().enumerate() {
-            self.assembler.add(&mut self.mass_values, e, &expand_mass(&sys.kernel(e).mass, me.covers.len()));
-        }
+        let extra: Vec<Vec<usize>> = self.contact_pairs.iter().map(|&(a, b)| pair_clique(sys, a, b)).collect();
+        (self.assembler, self.mass_values) = pattern_and_mass(&sys.covers, &sys.dofs, &sys.kernels, &sys.kernel_of, &extra);
         let nnz = self.assembler.pattern.nnz();
         self.tangent = vec![0.0; nnz];
         self.values = vec![0.0; nnz];
