@@ -40,13 +40,13 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
     let t_start = Instant::now();
     let sys = System::build(scenario, label)?;
     let monitors = MonitorPlan::all(&sys, label)?;
+    let mut state = State::initial(&sys);
+    let mut stepper = Stepper::new(&sys, &state, label)?;
     let out = &opts.out;
     std::fs::create_dir_all(out.join("frames")).map_err(|e| Error::io(out, e))?;
     let _ = std::fs::remove_file(out.join("summary.json"));
     tables::write_blocks(&sys, out)?;
     let mut rec = Recorder::new(&sys, monitors, out);
-    let mut state = State::initial(&sys);
-    let mut stepper = Stepper::new(&sys);
     let progress = opts.progress && std::io::stderr().is_terminal();
     let result = stepper.initialize(&sys, &mut state).and_then(|_| {
         rec.record(&sys, &state, true)?;

@@ -1,7 +1,7 @@
 //! The discretised, immutable model: geometry, covers, element kernels, loads, constraints,
 //! equation numbering and the assembler. Built once per run; `State` carries what changes.
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 use std::time::Instant;
 
 use nmm3d_geom::Vec3;
@@ -207,7 +207,7 @@ pub fn expand_mass(mass: &[f64], n: usize) -> Vec<f64> {
 
 fn build_kernels(covers: &Covers, geometry: &Geometry) -> (Vec<ElementKernel>, Vec<usize>) {
     let mut kernels = Vec::new();
-    let mut shared: HashMap<(usize, usize, usize), usize> = HashMap::new();
+    let mut shared: FxHashMap<(usize, usize, usize), usize> = FxHashMap::default();
     let mut kernel_of = Vec::with_capacity(covers.elements.len());
     for e in &covers.elements {
         let mat_id = geometry.blocks[e.block].material;

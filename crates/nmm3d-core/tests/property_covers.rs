@@ -66,6 +66,11 @@ fn an_aligned_box_is_covered_exactly() {
             let whole = covers.pattern.of_cell(e.cell)[e.subcell].shape.volume() * 0.125;
             assert!((e.volume - whole).abs() < 1e-15, "{kind:?}: every sub-cell is whole");
         }
+        // Cells with faces on the box's surface are taken whole without clipping; their faces
+        // there must still be block boundary (contact, tractions), and only there.
+        let h2 = 0.25; // cell-local areas × size²
+        let boundary: f64 = covers.elements.iter().flat_map(|e| e.boundary_faces()).map(|f| f.area_vector().norm() * h2).sum();
+        assert!((boundary - 10.0).abs() < 1e-12, "{kind:?}: boundary area {boundary} vs 10");
         let nodes = if kind == PatternKind::Tet24 { 5 * 3 * 3 + 4 * 2 * 2 + (5 * 2 * 2 + 4 * 3 * 2 + 4 * 2 * 3) } else { 5 * 3 * 3 };
         assert_eq!(covers.covers.len(), nodes, "{kind:?}");
     }

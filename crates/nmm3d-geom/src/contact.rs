@@ -57,6 +57,8 @@ pub struct Contact {
     pub separation: f64,
     /// Contact points on the plane.
     pub points: Vec<ContactPoint>,
+    /// Area of the overlap of the two support polygons [m²] (0 for an edge or a point).
+    pub area: f64,
 }
 
 /// Distinct vertices and edges of a convex polyhedron.
@@ -117,8 +119,8 @@ pub fn detect(a: &ConvexPolyhedron, b: &ConvexPolyhedron, params: &DetectParams)
     if sep > margin {
         return None;
     }
-    let points = thin(contact_points(&va, &vb, &best, support_tolerance), params.thin_distance);
-    Some(Contact { normal: best, separation: sep, points })
+    let (points, area) = contact_points(&va, &vb, &best, support_tolerance);
+    Some(Contact { normal: best, separation: sep, points: thin(points, params.thin_distance), area })
 }
 
 /// Merge points closer than `d`, keeping the deeper of each pair (order of first appearance).
@@ -163,7 +165,8 @@ fn hull(points: &[Vec3], n: &Vec3) -> Vec<Vec3> {
     p
 }
 
-fn contact_points(va: &[Vec3], vb: &[Vec3], n: &Vec3, tol: f64) -> Vec<ContactPoint> {
+/// The contact points and the overlap area.
+fn contact_points(va: &[Vec3], vb: &[Vec3], n: &Vec3, tol: f64) -> (Vec<ContactPoint>, f64) {
     let (lo_a, _) = support(va, n);
     let (_, hi_b) = support(vb, n);
     let sa: Vec<Vec3> = va.iter().filter(|v| n.dot(v) <= lo_a + tol).copied().collect();
@@ -178,7 +181,8 @@ fn contact_points(va: &[Vec3], vb: &[Vec3], n: &Vec3, tol: f64) -> Vec<ContactPo
     let eps = 1e-9 * scale;
     let overlap = overlap_2d(&ha, &hb, n, eps);
     let near = |p: &Vec3, set: &[Vec3]| set.iter().any(|q| (q - p).norm() <= 1e-7 * scale);
-    overlap
+    let area = if overlap.len() >= 3 { polygon::area_vector(&overlap).norm() } else { 0.0 };
+    let points = overlap
         .into_iter()
         .map(|p| {
             let (za, zb) = (height_a(&p), height_b(&p));
@@ -191,7 +195,8 @@ fn contact_points(va: &[Vec3], vb: &[Vec3], n: &Vec3, tol: f64) -> Vec<ContactPo
             };
             ContactPoint { mode, on_a: p + n * za, on_b: p + n * zb, gap: za - zb }
         })
-        .collect()
+        .collect();
+    (points, area)
 }
 
 /// Overlap of two flat convex sets (polygon, segment or point), as its corner points.
@@ -314,6 +319,7 @@ mod tests {
         assert_eq!(c.points.len(), 4);
         assert_eq!(count(&c, Mode::VertexOfA), 4);
         assert!(c.points.iter().all(|p| (p.gap + 0.001).abs() < 1e-12));
+        assert!((c.area - 1.0).abs() < 1e-12, "the whole face is in contact");
         // Turned about z it still sits on its face: four points.
         let c = detect(&rotated(&cube(Vec3::new(0.0, 0.0, 0.499), 1.0), [0.0, 0.0, 30.0]), &base, &P).unwrap();
         assert_eq!(count(&c, Mode::VertexOfA), 4);
@@ -329,6 +335,7 @@ mod tests {
         assert_eq!(c.points.len(), 1);
         assert_eq!(c.points[0].mode, Mode::VertexOfA);
         assert!((c.points[0].gap + 0.002).abs() < 1e-12);
+        assert_eq!(c.area, 0.0);
     }
 
     #[test]
@@ -350,6 +357,7 @@ mod tests {
         assert!((c.normal - Vec3::z()).norm() < 1e-12);
         assert_eq!(c.points.len(), 4);
         assert_eq!(count(&c, Mode::EdgeEdge), 4, "{:?}", c.points);
+        assert!((c.area - 0.8).abs() < 1e-12, "the crossing square 0.8 × 1");
     }
 
     #[test]

@@ -9,6 +9,11 @@ use nmm3d_core::scenario;
 use nmm3d_core::simulation::{self, RunOptions};
 use pyo3::prelude::*;
 
+/// The Rust side allocates many small geometry buffers (clipping, covers) and large solver
+/// workspaces; mimalloc serves both with fewer page faults than the system allocator.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 /// Parse, override and validate a TOML scenario file; returns the canonical scenario as JSON.
 #[pyfunction]
 #[pyo3(signature = (path, overrides = Vec::new()))]

@@ -1,26 +1,42 @@
-//! Contact between blocks: detection on the current geometry, transfer of contact state,
-//! penalty springs, Coulomb friction and the open–close state rules (thesis Part 3; DDA,
-//! Shi 1988; the state rules of ntdda `df22`).
+//! Contact between blocks: warning, detection on the current geometry, transfer of contact
+//! state, penalty springs, Coulomb friction with cohesion and tensile strength, in-situ stress
+//! as joint traction, and the open–close state rules (thesis Part 3; DDA, Shi 1988; the state
+//! rules of ntdda `df22`).
 //!
-//! Per step the contact set is re-detected on the current geometry (one plane per pair of
-//! pieces, `nmm3d_geom::contact`); a new point inherits state and shear history from the
-//! previous step's point of the same block pair nearest to it (within the transfer distance),
-//! else starts locked with zero shear. Within the step the open–close iteration solves with the
-//! springs of the current states and updates the states until none changes:
+//! Per step the candidate pairs of pieces come from the warning list ([`broad`]); each pair is
+//! detected on the current geometry (one plane per pair of pieces, `nmm3d_geom::contact`). A
+//! new point inherits state, shear history, in-situ preload and bond from the previous step's
+//! point of the same block pair nearest to it (within the transfer distance), else starts locked
+//! with zero shear and no bond. Within the step the open–close iteration solves with the
+//! springs of the current states and updates the states until none changes. With the force on
+//! A split into N = n·f (compression positive) and the tangential part F_t:
 //!
-//! | state | force | leaves when |
+//! | state | force on A | leaves when |
 //! |---|---|---|
 //! | open | none | the gap closes (→ stick) |
-//! | stick | normal spring k_n, shear spring k_s | tension (→ open); shear force > N tan φ + c A (→ slide) |
-//! | slide | normal spring, friction N tan φ against the slip | tension (→ open); the slip reverses (→ stick) |
+//! | stick | P − k_n g n − k_s s | N < −T A (→ open); \|F_t\| > N tan φ + c A (→ slide) |
+//! | slide | (n·P) n − k_n g n − N tan φ ŝ | N < −T A (→ open); the slip reverses (→ stick) |
+//!
+//! P is the in-situ preload σ₀·(−n) A of a point touching at the start, g the gap, s the
+//! shear-spring extension, ŝ the slip direction, A the point's share of the contact area,
+//! c and T the joint's cohesion and tensile strength. A bond (c, T) exists only for points
+//! touching at the start and is lost for good when the point slides or opens; the preload is
+//! lost when it opens.
 
+pub mod broad;
 pub mod surface;
 
-use nmm3d_geom::contact::{detect, DetectParams};
-use nmm3d_geom::{Aabb, Mat3, Vec3};
+use rayon::prelude::*;
+use rustc_hash::FxHashMap;
 
+use nmm3d_geom::contact::{detect, Contact, DetectParams, Mode};
+use nmm3d_geom::{Mat3, Vec3};
+
+use crate::error::Problem;
+use crate::scenario::Joint;
 use crate::state::State;
 use crate::system::System;
+use broad::Warning;
 use surface::{ContactPiece, MaterialPoint};
 
 /// State of one contact point.
@@ -34,11 +50,24 @@ pub enum ContactState {
     Slide,
 }
 
+impl ContactState {
+    /// Code written to the contact frames: 0 open, 1 stick, 2 slide.
+    pub fn code(self) -> i64 {
+        match self {
+            ContactState::Open => 0,
+            ContactState::Stick => 1,
+            ContactState::Slide => 2,
+        }
+    }
+}
+
 /// One contact point between blocks A and B.
 #[derive(Debug, Clone)]
 pub struct ContactRecord {
     /// Blocks (A, B).
     pub blocks: (usize, usize),
+    /// Entrance mode (which features meet).
+    pub mode: Mode,
     /// Material point on A.
     pub a: MaterialPoint,
     /// Material point on B.
@@ -53,12 +82,35 @@ pub struct ContactRecord {
     pub shear0: Vec3,
     /// Unit slip direction of A relative to B while sliding.
     pub slip: Vec3,
-    /// tan φ of the joint.
-    pub tan_phi: f64,
+    /// Joint strength at this point.
+    pub strength: Strength,
+    /// The point's share of the contact area [m²].
+    pub area: f64,
+    /// In-situ traction on A times the area [N] (zero once the point has opened).
+    pub preload: Vec3,
     /// Gap after the last solve [m].
     pub gap: f64,
     /// Relative displacement increment of A with respect to B after the last solve [m].
     pub rel: Vec3,
+    /// Force on A after the last solve [N].
+    pub force: Vec3,
+}
+
+/// Strength of a contact point: tan φ, and the bond (cohesion and tensile forces) it still has.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Strength {
+    /// tan φ.
+    pub tan_phi: f64,
+    /// Cohesion × area [N] (0 once broken).
+    pub cohesion: f64,
+    /// Tensile strength × area [N] (0 once broken).
+    pub tension: f64,
+}
+
+impl Strength {
+    fn broken(self) -> Self {
+        Self { cohesion: 0.0, tension: 0.0, ..self }
+    }
 }
 
 /// Penalties and tolerances of the contact algorithm.
@@ -70,6 +122,8 @@ pub struct ContactParams {
     pub ks: f64,
     /// Detection margin [m].
     pub margin: f64,
+    /// Warning skin [m]: the candidate list is rebuilt when a vertex has moved half of it.
+    pub skin: f64,
     /// Support tolerance and transfer distance [m].
     pub tolerance: f64,
 }
@@ -81,6 +135,8 @@ pub struct ContactSet {
     pub records: Vec<ContactRecord>,
     /// Penalties and tolerances.
     pub params: ContactParams,
+    /// The warning (candidate pair) list.
+    pub warning: Warning,
 }
 
 impl ContactSet {
@@ -96,65 +152,85 @@ impl ContactSet {
             .enumerate()
             .flat_map(|(b, block)| block.pieces.iter().filter_map(move |p| ContactPiece::new(sys, b, p)))
             .collect();
-        Some(Self { pieces, records: Vec::new(), params })
+        Some(Self { pieces, records: Vec::new(), params, warning: Warning::default() })
     }
 
-    /// Re-detect on the current geometry; transfer state and shear from the previous points.
-    pub fn detect(&mut self, sys: &System, state: &State) {
+    /// Re-detect on the current geometry; transfer state, shear, preload and bond from the
+    /// previous points. `initial`: the first detection, where touching points take the in-situ
+    /// traction and the joint's bond.
+    pub fn detect(&mut self, sys: &System, state: &State, initial: bool) {
         let current: Vec<_> = self.pieces.iter().map(|p| p.current(sys, state)).collect();
-        let boxes: Vec<Aabb> = current.iter().map(|c| c.aabb()).collect();
-        let m = Vec3::repeat(self.params.margin);
-        let dp = DetectParams { margin: self.params.margin, support_tolerance: self.params.tolerance, thin_distance: 10.0 * self.params.tolerance };
+        let p = self.params;
+        let dp = DetectParams { margin: p.margin, support_tolerance: p.tolerance, thin_distance: 10.0 * p.tolerance };
+        let pieces = &self.pieces;
+        let keep = |i: usize, j: usize| pieces[i].block != pieces[j].block && !both_fixed(sys, pieces[i].block, pieces[j].block);
+        let pairs = self.warning.update(&current, p.margin, p.skin, keep);
+        // A is the piece of the higher block index.
+        let found: Vec<(usize, usize, Contact)> = pairs
+            .par_iter()
+            .map(|&(i, j)| if pieces[i].block > pieces[j].block { (i, j) } else { (j, i) })
+            .filter_map(|(i, j)| detect(&current[i], &current[j], &dp).map(|c| (i, j, c)))
+            .collect();
         let previous = std::mem::take(&mut self.records);
-        for i in 0..self.pieces.len() {
-            for j in 0..self.pieces.len() {
-                let (pa, pb) = (&self.pieces[i], &self.pieces[j]);
-                // Each pair once: A is the piece of the higher block index.
-                if pa.block <= pb.block || both_fixed(sys, pa.block, pb.block) {
-                    continue;
-                }
-                let grown = Aabb { min: boxes[i].min - m, max: boxes[i].max + m };
-                if !grown.overlaps(&boxes[j]) {
-                    continue;
-                }
-                let Some(c) = detect(&current[i], &current[j], &dp) else { continue };
-                for p in c.points {
-                    let xa = pa.reference_of(&current[i], &p.on_a);
-                    let xb = pb.reference_of(&current[j], &p.on_b);
-                    let (Some(a), Some(b)) = (MaterialPoint::new(sys, pa.block, xa), MaterialPoint::new(sys, pb.block, xb)) else { continue };
-                    let mut r = ContactRecord {
-                        blocks: (pa.block, pb.block),
-                        a,
-                        b,
-                        normal: c.normal,
-                        gap0: p.gap,
-                        // Touching counts as closed: blocks placed on each other start in contact.
-                        state: if p.gap <= TOUCHING * self.params.tolerance { ContactState::Stick } else { ContactState::Open },
-                        shear0: Vec3::zeros(),
-                        slip: Vec3::zeros(),
-                        tan_phi: friction(sys, pa.block, pb.block),
-                        gap: p.gap,
-                        rel: Vec3::zeros(),
-                    };
-                    if let Some(old) = previous
-                        .iter()
-                        .filter(|o| o.blocks == r.blocks && (o.a.reference - r.a.reference).norm() < 10.0 * self.params.tolerance)
-                        .min_by(|x, y| (x.a.reference - r.a.reference).norm().total_cmp(&(y.a.reference - r.a.reference).norm()))
-                    {
-                        if old.state != ContactState::Open {
-                            r.state = if r.gap0 < 0.0 { old.state } else { ContactState::Open };
-                            let t = tangential(&r.normal);
-                            r.shear0 = t * old.shear0;
-                            r.slip = old.slip;
-                        }
+        let mut by_pair: FxHashMap<(usize, usize), Vec<usize>> = FxHashMap::default();
+        for (k, r) in previous.iter().enumerate() {
+            by_pair.entry(r.blocks).or_default().push(k);
+        }
+        for (i, j, c) in found {
+            let (pa, pb) = (&self.pieces[i], &self.pieces[j]);
+            let joint = joint_between(sys, pa.block, pb.block);
+            let area = if c.points.is_empty() { 0.0 } else { c.area / c.points.len() as f64 };
+            for q in &c.points {
+                let xa = pa.reference_of(&current[i], &q.on_a);
+                let xb = pb.reference_of(&current[j], &q.on_b);
+                let (Some(a), Some(b)) = (MaterialPoint::new(sys, pa.block, xa), MaterialPoint::new(sys, pb.block, xb)) else { continue };
+                // Touching counts as closed: blocks placed on each other start in contact.
+                let touching = q.gap <= TOUCHING * p.tolerance;
+                let tan_phi = joint.map_or(0.0, |j| j.friction_angle.to_radians().tan());
+                let bonded = initial && touching;
+                let mut r = ContactRecord {
+                    blocks: (pa.block, pb.block),
+                    mode: q.mode,
+                    a,
+                    b,
+                    normal: c.normal,
+                    gap0: q.gap,
+                    state: if touching { ContactState::Stick } else { ContactState::Open },
+                    shear0: Vec3::zeros(),
+                    slip: Vec3::zeros(),
+                    strength: Strength {
+                        tan_phi,
+                        cohesion: if bonded { joint.map_or(0.0, |j| j.cohesion) * area } else { 0.0 },
+                        tension: if bonded { joint.map_or(0.0, |j| j.tensile_strength) * area } else { 0.0 },
+                    },
+                    area,
+                    preload: if bonded { in_situ_traction(sys, &q.on_a, &c.normal) * area } else { Vec3::zeros() },
+                    gap: q.gap,
+                    rel: Vec3::zeros(),
+                    force: Vec3::zeros(),
+                };
+                if let Some(old) = nearest(&previous, by_pair.get(&r.blocks), &r.a.reference, 10.0 * p.tolerance) {
+                    if old.state != ContactState::Open {
+                        r.state = if r.gap0 < 0.0 { old.state } else { ContactState::Open };
+                        let t = tangential(&r.normal);
+                        r.shear0 = t * old.shear0;
+                        r.slip = old.slip;
+                        r.preload = old.preload;
+                        r.strength = Strength { tan_phi, ..old.strength };
+                        r.force = old.force;
                     }
-                    self.records.push(r);
                 }
+                self.records.push(r);
             }
         }
     }
 
-    /// Covers coupled by each contact (A's ME then B's ME).
+    /// Points overlapping deeper than `depth` [m].
+    pub fn overlaps(&self, depth: f64) -> impl Iterator<Item = &ContactRecord> {
+        self.records.iter().filter(move |r| r.gap0 < -depth)
+    }
+
+/// Covers coupled by each contact (A's ME then B's ME).
     pub fn cliques(&self, sys: &System) -> Vec<Vec<usize>> {
         self.records.iter().map(|r| pair_clique(sys, r.a.element, r.b.element)).collect()
     }
@@ -179,11 +255,10 @@ impl ContactSet {
         match r.state {
             ContactState::Stick => {
                 block += ks * t;
-                force -= ks * r.shear0;
+                force += r.preload - ks * r.shear0;
             }
             ContactState::Slide => {
-                let normal_force = -kn * r.gap.min(0.0);
-                force -= r.tan_phi * normal_force * r.slip;
+                force += n * n.dot(&r.preload) - r.strength.tan_phi * r.normal_force(kn) * r.slip;
             }
             ContactState::Open => {}
         }
@@ -210,26 +285,43 @@ impl ContactSet {
             let inc = |mp: &MaterialPoint| -> Vec3 { sys.covers.elements[mp.element].covers.iter().zip(&mp.weights).map(|(&c, w)| *w * d[c]).sum() };
             r.rel = inc(&r.a) - inc(&r.b);
             r.gap = r.gap0 + r.normal.dot(&r.rel);
-            let t = tangential(&r.normal);
+            let n = r.normal;
+            let t = tangential(&n);
             let shear = r.shear0 + t * r.rel;
-            let normal_force = -kn * r.gap;
+            // Forces on A if the point stays as it is.
+            let normal = n.dot(&r.preload) - kn * r.gap;
+            let held = t * r.preload - ks * shear;
+            let s = r.strength;
             let new = match r.state {
-                _ if r.gap > 0.0 => ContactState::Open,
+                ContactState::Open if r.gap > 0.0 => ContactState::Open,
                 ContactState::Open => ContactState::Stick,
-                ContactState::Stick if ks * shear.norm() > r.tan_phi * normal_force => ContactState::Slide,
+                _ if normal < -s.tension => ContactState::Open,
+                ContactState::Stick if held.norm() > s.tan_phi * normal.max(0.0) + s.cohesion => ContactState::Slide,
                 ContactState::Slide if (t * r.rel).dot(&r.slip) < 0.0 => ContactState::Stick,
                 s => s,
             };
             if new == ContactState::Slide {
-                let dir = if r.state == ContactState::Stick { shear } else { t * r.rel };
+                // A slips against the force that held it (or on in the direction it slid).
+                let dir = if r.state == ContactState::Stick { -held } else { t * r.rel };
                 if dir.norm() > 0.0 {
                     r.slip = dir.normalize();
                 }
             }
             if new != r.state {
                 changed += 1;
+                if new != ContactState::Stick {
+                    r.strength = r.strength.broken();
+                }
+                if new == ContactState::Open {
+                    r.preload = Vec3::zeros();
+                }
                 r.state = new;
             }
+            r.force = match r.state {
+                ContactState::Open => Vec3::zeros(),
+                ContactState::Stick => r.preload - kn * r.gap * n - ks * shear,
+                ContactState::Slide => n * n.dot(&r.preload) - kn * r.gap * n - r.strength.tan_phi * r.normal_force(kn) * r.slip,
+            };
         }
         changed
     }
@@ -266,16 +358,63 @@ fn both_fixed(sys: &System, a: usize, b: usize) -> bool {
     sys.geometry.blocks[a].fixed && sys.geometry.blocks[b].fixed
 }
 
-/// tan φ between two blocks: an interface naming both bodies, else A's body joint, else B's.
-fn friction(sys: &System, a: usize, b: usize) -> f64 {
+/// The joint between two blocks: an interface naming both bodies, else A's body joint, else B's.
+fn joint_between(sys: &System, a: usize, b: usize) -> Option<&Joint> {
     let s = &sys.scenario;
     let (ba, bb) = (&s.body[sys.geometry.blocks[a].body].name, &s.body[sys.geometry.blocks[b].body].name);
-    let joint = s
+    let name = s
         .interface
         .iter()
         .find(|i| (&i.bodies[0] == ba && &i.bodies[1] == bb) || (&i.bodies[0] == bb && &i.bodies[1] == ba))
-        .map(|i| i.joint.clone())
-        .or_else(|| s.body[sys.geometry.blocks[a].body].joint.clone())
-        .or_else(|| s.body[sys.geometry.blocks[b].body].joint.clone());
-    joint.and_then(|j| s.joint.iter().find(|x| x.name == j)).map_or(0.0, |j| j.friction_angle.to_radians().tan())
+        .map(|i| &i.joint)
+        .or(s.body[sys.geometry.blocks[a].body].joint.as_ref())
+        .or(s.body[sys.geometry.blocks[b].body].joint.as_ref())?;
+    s.joint.iter().find(|x| &x.name == name)
+}
+
+/// In-situ traction on A's surface (outward normal −n) at `x`: σ₀(x)·(−n) [Pa].
+fn in_situ_traction(sys: &System, x: &Vec3, n: &Vec3) -> Vec3 {
+    let Some(s) = &sys.scenario.in_situ_stress else { return Vec3::zeros() };
+    let dz = x.z - s.reference_z;
+    let c: Vec<f64> = (0..6).map(|k| s.stress[k] + s.gradient[k] * dz).collect();
+    // Voigt order xx, yy, zz, xy, yz, zx.
+    let sigma = Mat3::new(c[0], c[3], c[5], c[3], c[1], c[4], c[5], c[4], c[2]);
+    -(sigma * n)
+}
+
+/// The previous point (among `candidates`) nearest `x` within `reach`.
+fn nearest<'a>(previous: &'a [ContactRecord], candidates: Option<&Vec<usize>>, x: &Vec3, reach: f64) -> Option<&'a ContactRecord> {
+    candidates?
+        .iter()
+        .map(|&k| &previous[k])
+        .map(|o| ((o.a.reference - x).norm(), o))
+        .filter(|(d, _)| *d < reach)
+        .min_by(|p, q| p.0.total_cmp(&q.0))
+        .map(|(_, o)| o)
+}
+
+/// Blocks overlapping deeper than `depth` at the start, as input problems naming the bodies.
+pub fn overlap_problems(sys: &System, set: &ContactSet, depth: f64) -> Vec<Problem> {
+    let mut seen = std::collections::BTreeSet::new();
+    set.overlaps(depth)
+        .filter(|r| seen.insert(r.blocks))
+        .map(|r| {
+            let name = |b: usize| &sys.scenario.body[sys.geometry.blocks[b].body].name;
+            let x = r.a.reference;
+            Problem {
+                path: format!("body.{}", name(r.blocks.0)),
+                reason: format!(
+                    "block {} of body '{}' overlaps block {} of body '{}' by {:.3e} m at ({:.4}, {:.4}, {:.4}) (allowed {:.1e} m)",
+                    r.blocks.0, name(r.blocks.0), r.blocks.1, name(r.blocks.1), -r.gap0, x.x, x.y, x.z, depth
+                ),
+            }
+        })
+        .collect()
+}
+
+impl ContactRecord {
+    /// Compressive normal force on A after the last solve, N = n·P − k_n g, at least 0 [N].
+    pub fn normal_force(&self, kn: f64) -> f64 {
+        (self.normal.dot(&self.preload) - kn * self.gap).max(0.0)
+    }
 }

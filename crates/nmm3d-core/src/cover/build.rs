@@ -1,16 +1,17 @@
 //! Building manifold elements and physical covers for every block.
 //!
 //! For each convex piece of a block, every cell of the mathematical mesh that its bounding box
-//! touches is visited. A cell whose eight corners lie strictly inside the piece contributes its
-//! sub-cells whole; otherwise the piece is clipped by each sub-cell's planes. Physical covers
+//! touches is visited. A cell whose eight corners lie inside the piece (or on its faces)
+//! contributes its sub-cells whole, faces on the piece's boundary taking the piece's tags; otherwise the piece is clipped by each sub-cell's planes. Physical covers
 //! are the classes of (ME, node) incidences merged across ME faces of positive area that both
 //! MEs share (the face lies in the star of each of its nodes).
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 use rayon::prelude::*;
 
-use nmm3d_geom::{integrate, ConvexPolyhedron, FaceTag, Vec3};
+use nmm3d_geom::polyhedron::CLIP_TOLERANCE;
+use nmm3d_geom::{integrate, polygon, ConvexPolyhedron, FaceTag, Plane, Vec3};
 
 use super::manifold_element::ManifoldElement;
 use super::mesh::{MathMesh, NodeKey};
@@ -32,7 +33,7 @@ pub struct Covers {
     /// Physical covers, numbered by first appearance in `elements`.
     pub covers: Vec<PhysicalCover>,
     /// MEs of each cell, for locating points.
-    pub by_cell: HashMap<[i32; 3], Vec<usize>>,
+    pub by_cell: FxHashMap<[i32; 3], Vec<usize>>,
 }
 
 /// Relative tolerance of the "cell strictly inside the piece" test (× piece diagonal).
@@ -53,7 +54,7 @@ impl Covers {
             .collect();
         let elements: Vec<ManifoldElement> = per_block.into_iter().flatten().collect();
         let (elements, covers) = number_covers(elements, &mesh, &pattern);
-        let mut by_cell: HashMap<[i32; 3], Vec<usize>> = HashMap::new();
+        let mut by_cell: FxHashMap<[i32; 3], Vec<usize>> = FxHashMap::default();
         for (i, e) in elements.iter().enumerate() {
             by_cell.entry(e.cell).or_default().push(i);
         }
@@ -138,26 +139,43 @@ fn block_elements(
     let mut parts: Vec<([i32; 3], usize, ConvexPolyhedron, [f64; TERMS], bool)> = Vec::new();
     for piece in &block.pieces {
         let local = piece.map(|x| mesh.to_local(x));
-        let planes = local.face_planes();
+        let planes: Vec<(Plane, FaceTag)> = local
+            .faces
+            .iter()
+            .filter_map(|f| Plane::from_point_normal(polygon::centroid(&f.vertices), f.area_vector()).map(|p| (p, f.tag)))
+            .collect();
         let bb = local.aabb();
         let eps = FULL_CELL_TOLERANCE * bb.diagonal();
+        let on = CLIP_TOLERANCE * bb.diagonal();
         let (lo, hi) = (mesh.cell_of(&bb.min), mesh.cell_of(&bb.max));
         for k in lo[2]..=hi[2] {
             for j in lo[1]..=hi[1] {
                 for i in lo[0]..=hi[0] {
                     let cell = [i, j, k];
                     let c = cell_corner(cell);
-                    let full = (0..8).all(|q| {
-                        let x = c + Vec3::new((q & 1) as f64, ((q >> 1) & 1) as f64, ((q >> 2) & 1) as f64);
-                        planes.iter().all(|p| p.signed_distance(&x) < -eps)
-                    });
+                    // Farthest corner's signed distance: < −eps strictly inside; ≤ `on` inside
+                    // with some cell faces on the piece's boundary (convexity: corners in ⇒ cell in).
+                    let reach = (0..8)
+                        .map(|q| {
+                            let x = c + Vec3::new((q & 1) as f64, ((q >> 1) & 1) as f64, ((q >> 2) & 1) as f64);
+                            planes.iter().map(|(p, _)| p.signed_distance(&x)).fold(f64::NEG_INFINITY, f64::max)
+                        })
+                        .fold(f64::NEG_INFINITY, f64::max);
+                    let full = reach < -eps;
+                    let inside = reach <= on;
                     for (si, sub) in pattern.of_cell(cell).iter().enumerate() {
-                        let geom = if full { Some(sub.shape.clone()) } else { clip_to_subcell(&local, sub, c) };
+                        let geom = if full {
+                            Some(sub.shape.clone())
+                        } else if inside {
+                            Some(tag_boundary_faces(&sub.shape, &planes, c, on))
+                        } else {
+                            clip_to_subcell(&local, sub, c)
+                        };
                         let Some(g) = geom else { continue };
                         let whole = full_moments[parity(cell)][si];
                         // A clipped piece with the whole sub-cell's volume is the sub-cell (only its
                         // faces on the block boundary are tagged differently): reuse its moments.
-                        let is_whole = full || (g.volume() - whole[0]).abs() <= WHOLE_TOLERANCE * whole[0];
+                        let is_whole = inside || (g.volume() - whole[0]).abs() <= WHOLE_TOLERANCE * whole[0];
                         let m = if is_whole { whole } else { moments(&g, pattern) };
                         parts.push((cell, si, g, m, is_whole));
                     }
@@ -214,6 +232,22 @@ fn connected_parts(parts: &[([i32; 3], usize, ConvexPolyhedron, [f64; TERMS], bo
     groups.into_iter().map(|(_, g)| g).collect()
 }
 
+/// A sub-cell inside the piece (cell-local coordinates, corner `c`) whose faces lying on a
+/// piece face take that face's tag, as clipping would leave them.
+fn tag_boundary_faces(shape: &ConvexPolyhedron, planes: &[(Plane, FaceTag)], c: Vec3, on: f64) -> ConvexPolyhedron {
+    let mut g = shape.clone();
+    for f in &mut g.faces {
+        let n = f.area_vector();
+        if let Some((_, tag)) = planes
+            .iter()
+            .find(|(p, _)| p.normal.dot(&n) > 0.0 && f.vertices.iter().all(|v| p.signed_distance(&(v + c)).abs() <= on))
+        {
+            f.tag = *tag;
+        }
+    }
+    g
+}
+
 /// (piece ∩ sub-cell) in cell-local coordinates.
 fn clip_to_subcell(local_piece: &ConvexPolyhedron, sub: &super::pattern::SubCell, c: Vec3) -> Option<ConvexPolyhedron> {
     let mut g = local_piece.clone();
@@ -239,7 +273,7 @@ fn number_covers(
         total += pattern.of_cell(e.cell)[e.subcell].nodes.len();
     }
     let mut uf = UnionFind::new(total);
-    let mut faces: HashMap<FaceKey, (usize, usize)> = HashMap::new();
+    let mut faces: FxHashMap<FaceKey, (usize, usize)> = FxHashMap::default();
     for (ei, e) in elements.iter().enumerate() {
         let sub = &pattern.of_cell(e.cell)[e.subcell];
         for f in e.faces().filter(|f| f.tag.0 >= CELL_TAG) {
@@ -250,18 +284,20 @@ fn number_covers(
             }
         }
     }
-    let mut class_to_cover: HashMap<usize, usize> = HashMap::new();
+    // Union-find root (an incidence index) ↦ cover number, numbered by first appearance.
+    let mut class_to_cover = vec![usize::MAX; total];
     let mut covers = Vec::new();
     for (ei, e) in elements.iter_mut().enumerate() {
         let sub = &pattern.of_cell(e.cell)[e.subcell];
         e.covers = (0..sub.nodes.len())
             .map(|slot| {
                 let root = uf.find(offset[ei] + slot);
-                *class_to_cover.entry(root).or_insert_with(|| {
+                if class_to_cover[root] == usize::MAX {
                     let node = node_key(e.cell, sub.nodes[slot]);
                     covers.push(PhysicalCover { block: e.block, node, position: mesh.node_position(node) });
-                    covers.len() - 1
-                })
+                    class_to_cover[root] = covers.len() - 1;
+                }
+                class_to_cover[root]
             })
             .collect();
     }

@@ -299,12 +299,12 @@ fn root(owner: &[usize], mut i: usize) -> usize {
 /// Uniform grid of boxes for overlap queries.
 struct BoxGrid {
     cell: f64,
-    map: std::collections::HashMap<[i64; 3], Vec<usize>>,
+    map: rustc_hash::FxHashMap<[i64; 3], Vec<usize>>,
 }
 
 impl BoxGrid {
     fn new(boxes: &[Aabb], cell: f64) -> Self {
-        let mut map: std::collections::HashMap<[i64; 3], Vec<usize>> = std::collections::HashMap::new();
+        let mut map: rustc_hash::FxHashMap<[i64; 3], Vec<usize>> = rustc_hash::FxHashMap::default();
         for (i, b) in boxes.iter().enumerate() {
             let (lo, hi) = (Self::key(&b.min, cell), Self::key(&b.max, cell));
             for x in lo[0]..=hi[0] {

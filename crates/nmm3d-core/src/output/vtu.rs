@@ -5,7 +5,7 @@
 //! data: displacement, velocity; cell data: block id, ME id, stress (xx, yy, zz, xy, yz, zx;
 //! compression negative).
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -31,7 +31,7 @@ fn point_key(block: usize, x: &Vec3, quantum: f64) -> [i64; 4] {
 #[derive(Default)]
 struct Cells {
     points: Vec<Vec3>,
-    keys: HashMap<[i64; 4], i32>,
+    keys: FxHashMap<[i64; 4], i32>,
     conn: Vec<i32>,
     offsets: Vec<i32>,
     faces: Vec<i32>,

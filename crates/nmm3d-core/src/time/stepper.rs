@@ -14,7 +14,7 @@ use super::corotation;
 use super::integrator::Newmark;
 use super::step_control::{self, Verdict};
 use crate::assembly::Assembler;
-use crate::contact::{pair_clique, ContactParams, ContactSet};
+use crate::contact::{overlap_problems, pair_clique, ContactParams, ContactSet};
 use crate::error::{Error, Result};
 use crate::scenario::{AnalysisKind, Stiffness};
 use crate::solver::{FaerCholesky, LinearSolver};
@@ -67,21 +67,37 @@ pub struct Stepper {
 }
 
 impl Stepper {
-    /// A stepper with faer's sparse Cholesky.
-    pub fn new(sys: &System) -> Self {
+    /// A stepper with faer's sparse Cholesky. The first contact detection runs here: blocks
+    /// overlapping deeper than the overlap tolerance are invalid input (`label` names it).
+    pub fn new(sys: &System, state: &State, label: &str) -> Result<Self> {
         let nnz = sys.assembler.pattern.nnz();
-        Self {
+        let mut contacts = if sys.scenario.contact.enabled { ContactSet::new(sys, contact_params(sys)) } else { None };
+        if let Some(c) = contacts.as_mut() {
+            c.detect(sys, state, true);
+            let problems = overlap_problems(sys, c, OVERLAP_TOLERANCE * sys.covers.mesh.size);
+            if !problems.is_empty() {
+                return Err(Error::Scenario { file: label.to_string(), problems });
+            }
+        }
+        let mut stepper = Self {
             solver: Box::new(FaerCholesky::new(sys.scenario.analysis.ordering)),
             assembler: sys.assembler.clone(),
             mass_values: sys.mass_values.clone(),
-            contacts: if sys.scenario.contact.enabled { ContactSet::new(sys, contact_params(sys)) } else { None },
+            contacts,
             contact_pairs: BTreeSet::new(),
             newmark: Newmark::from_analysis(&sys.scenario.analysis),
             tangent: vec![0.0; nnz],
             values: vec![0.0; nnz],
             force_scale: 0.0,
             times: PhaseTimes::default(),
-        }
+        };
+        stepper.ensure_contact_pattern(sys);
+        Ok(stepper)
+    }
+
+    /// The contact set (`None` without contact).
+    pub fn contacts(&self) -> Option<&ContactSet> {
+        self.contacts.as_ref()
     }
 
     /// Symbolic and numeric factorisation seconds of the solver.
@@ -112,7 +128,7 @@ impl Stepper {
         let t = Instant::now();
         // Contacts first: a new contact may change the pattern the tangent is assembled into.
         if let Some(c) = self.contacts.as_mut() {
-            c.detect(sys, state);
+            c.detect(sys, state, false);
         }
         self.ensure_contact_pattern(sys);
         let residual = self.assemble(sys, state);
@@ -338,7 +354,8 @@ fn scatter_into(sys: &System, x: &[f64], out: &mut [Vec3]) {
 }
 
 /// Contact penalties and tolerances from the scenario ("auto": k_n = 10 × largest E × cover
-/// size, k_s = k_n; detection margin twice the largest step displacement).
+/// size, k_s = k_n; detection margin twice the largest step displacement, warning skin twice
+/// the margin).
 fn contact_params(sys: &System) -> ContactParams {
     let a = &sys.scenario.analysis;
     let young = sys.geometry.materials.iter().map(|m| m.young).fold(0.0, f64::max);
@@ -352,8 +369,14 @@ fn contact_params(sys: &System) -> ContactParams {
         Stiffness::Auto => kn,
     };
     let tolerance = CONTACT_TOLERANCE * size;
-    ContactParams { kn, ks, margin: 2.0 * a.max_displacement_ratio * sys.half_size + tolerance, tolerance }
+    let margin = 2.0 * a.max_displacement_ratio * sys.half_size + tolerance;
+    ContactParams { kn, ks, margin, skin: WARNING_SKIN * margin, tolerance }
 }
+
+/// Warning skin as a multiple of the detection margin (larger: fewer rebuilds, more pairs).
+const WARNING_SKIN: f64 = 2.0;
+/// Blocks overlapping deeper than this fraction of the cover size at the start are invalid input.
+const OVERLAP_TOLERANCE: f64 = 1e-3;
 
 /// "auto" normal penalty = this × largest Young's modulus × cover size.
 const CONTACT_PENALTY_FACTOR: f64 = 10.0;

@@ -38,7 +38,7 @@ use nmm3d_core::time::Stepper;
 pub fn solve_static(text: &str) -> (System, State) {
     let sys = System::build(scenario(text), "<test>").unwrap_or_else(|e| panic!("{e}"));
     let mut state = State::initial(&sys);
-    let mut stepper = Stepper::new(&sys);
+    let mut stepper = Stepper::new(&sys, &state, "<test>").unwrap_or_else(|e| panic!("{e}"));
     stepper.initialize(&sys, &mut state).unwrap();
     let tol = sys.scenario.analysis.equilibrium_tolerance;
     for _ in 0..sys.scenario.analysis.max_steps {
