@@ -48,7 +48,11 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
     tables::write_blocks(&sys, out)?;
     let mut rec = Recorder::new(&sys, monitors, out);
     let progress = opts.progress && std::io::stderr().is_terminal();
+    let mut settled = None;
     let result = stepper.initialize(&sys, &mut state).and_then(|_| {
+        if sys.scenario.analysis.initial_equilibrium {
+            settled = Some(stepper.settle(&sys, &mut state)?);
+        }
         rec.record(&sys, &state, true)?;
         advance(&sys, &mut state, &mut stepper, &mut rec, progress)
     });
@@ -61,7 +65,10 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
         Err(e) => return Err(e),
     };
     rec.finish(&sys, &state)?;
-    let summary = summary(&sys, &state, &stepper, &rec, completed, &message, t_start.elapsed().as_secs_f64());
+    let mut summary = summary(&sys, &state, &stepper, &rec, completed, &message, t_start.elapsed().as_secs_f64());
+    if let (Some((steps, unbalanced)), Some(map)) = (settled, summary.as_object_mut()) {
+        let _ = map.insert("initial_equilibrium".into(), json!({"steps": steps, "unbalanced_force_ratio": unbalanced}));
+    }
     let text = serde_json::to_string_pretty(&summary).expect("a JSON value serialises");
     atomic::write(&out.join("summary.json"), text.as_bytes())?;
     Ok(RunOutcome { summary, completed })
@@ -213,6 +220,11 @@ fn summary(sys: &System, state: &State, stepper: &Stepper, rec: &Recorder, compl
     let _ = timings.insert("factorization".into(), json!(numeric));
     let _ = timings.insert("solve".into(), json!(stepper.times.solve));
     let _ = timings.insert("output".into(), json!(rec.output_seconds));
+    if let Some(c) = stepper.contacts() {
+        let _ = timings.insert("contact_warning".into(), json!(c.times.warning));
+        let _ = timings.insert("contact_detection".into(), json!(c.times.detection));
+        let _ = timings.insert("contact_open_close".into(), json!(stepper.times.open_close));
+    }
     json!({
         "status": if completed { "completed" } else { "failed" },
         "message": message,

@@ -26,6 +26,8 @@
 pub mod broad;
 pub mod surface;
 
+use std::time::Instant;
+
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
@@ -137,6 +139,17 @@ pub struct ContactSet {
     pub params: ContactParams,
     /// The warning (candidate pair) list.
     pub warning: Warning,
+    /// Seconds spent so far.
+    pub times: ContactTimes,
+}
+
+/// Seconds spent in the contact phases.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct ContactTimes {
+    /// Warning (candidate pairs, including the current geometry of the pieces).
+    pub warning: f64,
+    /// Detection and transfer.
+    pub detection: f64,
 }
 
 impl ContactSet {
@@ -152,19 +165,22 @@ impl ContactSet {
             .enumerate()
             .flat_map(|(b, block)| block.pieces.iter().filter_map(move |p| ContactPiece::new(sys, b, p)))
             .collect();
-        Some(Self { pieces, records: Vec::new(), params, warning: Warning::default() })
+        Some(Self { pieces, records: Vec::new(), params, warning: Warning::default(), times: ContactTimes::default() })
     }
 
     /// Re-detect on the current geometry; transfer state, shear, preload and bond from the
     /// previous points. `initial`: the first detection, where touching points take the in-situ
     /// traction and the joint's bond.
     pub fn detect(&mut self, sys: &System, state: &State, initial: bool) {
+        let clock = Instant::now();
         let current: Vec<_> = self.pieces.iter().map(|p| p.current(sys, state)).collect();
         let p = self.params;
         let dp = DetectParams { margin: p.margin, support_tolerance: p.tolerance, thin_distance: 10.0 * p.tolerance };
         let pieces = &self.pieces;
         let keep = |i: usize, j: usize| pieces[i].block != pieces[j].block && !both_fixed(sys, pieces[i].block, pieces[j].block);
         let pairs = self.warning.update(&current, p.margin, p.skin, keep);
+        self.times.warning += clock.elapsed().as_secs_f64();
+        let clock = Instant::now();
         // A is the piece of the higher block index.
         let found: Vec<(usize, usize, Contact)> = pairs
             .par_iter()
@@ -218,11 +234,16 @@ impl ContactSet {
                         r.preload = old.preload;
                         r.strength = Strength { tan_phi, ..old.strength };
                         r.force = old.force;
+                        if r.state == ContactState::Slide {
+                            // Linearise the friction about the last step's slip, not about rest.
+                            r.rel = old.rel;
+                        }
                     }
                 }
                 self.records.push(r);
             }
         }
+        self.times.detection += clock.elapsed().as_secs_f64();
     }
 
     /// Points overlapping deeper than `depth` [m].
@@ -258,7 +279,13 @@ impl ContactSet {
                 force += r.preload - ks * r.shear0;
             }
             ContactState::Slide => {
-                force += n * n.dot(&r.preload) - r.strength.tan_phi * r.normal_force(kn) * r.slip;
+                // Friction linearised about the last iterate (return mapping, consistent
+                // tangent; Wriggers, Computational Contact Mechanics §5.2): the force keeps
+                // the Coulomb magnitude and turns with the trial direction, so sideways motion
+                // of a sliding point meets stiffness instead of a fixed-direction force.
+                let (f_k, k_t) = r.friction(kn, ks);
+                block += k_t;
+                force += n * n.dot(&r.preload) + f_k + k_t * r.rel;
             }
             ContactState::Open => {}
         }
@@ -277,8 +304,32 @@ impl ContactSet {
         (mat, f)
     }
 
+    /// Add each point's force at the start of the step (springs at the start gaps and
+    /// extensions) to the per-cover forces `f`.
+    pub fn add_start_forces(&self, sys: &System, f: &mut [Vec3]) {
+        let kn = self.params.kn;
+        for r in &self.records {
+            let n = r.normal;
+            let spring = -kn * r.gap0 * n;
+            let force = match r.state {
+                ContactState::Open => continue,
+                ContactState::Stick => r.preload + spring - self.params.ks * r.shear0,
+                ContactState::Slide => {
+                    let normal = (n.dot(&r.preload) - kn * r.gap0).max(0.0);
+                    n * n.dot(&r.preload) + spring - (r.strength.tan_phi * normal + r.strength.cohesion) * r.slip
+                }
+            };
+            for (mp, sign) in [(&r.a, 1.0), (&r.b, -1.0)] {
+                for (&c, w) in sys.covers.elements[mp.element].covers.iter().zip(&mp.weights) {
+                    f[c] += sign * w * force;
+                }
+            }
+        }
+    }
+
     /// Update every point from the solved increments `d`; returns how many changed state.
-    pub fn update_states(&mut self, sys: &System, d: &[Vec3]) -> usize {
+    /// `locked`: closed points stick whatever the force (initial equilibrium).
+    pub fn update_states(&mut self, sys: &System, d: &[Vec3], locked: bool) -> usize {
         let (kn, ks) = (self.params.kn, self.params.ks);
         let mut changed = 0;
         for r in &mut self.records {
@@ -288,24 +339,29 @@ impl ContactSet {
             let n = r.normal;
             let t = tangential(&n);
             let shear = r.shear0 + t * r.rel;
-            // Forces on A if the point stays as it is.
+            // Elastic trial: forces on A if the springs held (return mapping onto the Coulomb
+            // limit, as in 3DEC; a sliding point's spring sits at the limit, see `accept`).
             let normal = n.dot(&r.preload) - kn * r.gap;
             let held = t * r.preload - ks * shear;
             let s = r.strength;
+            let limit = s.tan_phi * normal.max(0.0) + s.cohesion;
             let new = match r.state {
                 ContactState::Open if r.gap > 0.0 => ContactState::Open,
                 ContactState::Open => ContactState::Stick,
+                _ if locked => ContactState::Stick,
                 _ if normal < -s.tension => ContactState::Open,
-                ContactState::Stick if held.norm() > s.tan_phi * normal.max(0.0) + s.cohesion => ContactState::Slide,
-                ContactState::Slide if (t * r.rel).dot(&r.slip) < 0.0 => ContactState::Stick,
-                s => s,
+                _ if held.norm() > limit => ContactState::Slide,
+                _ => ContactState::Stick,
             };
-            if new == ContactState::Slide {
-                // A slips against the force that held it (or on in the direction it slid).
-                let dir = if r.state == ContactState::Stick { -held } else { t * r.rel };
-                if dir.norm() > 0.0 {
-                    r.slip = dir.normalize();
+            if new == ContactState::Slide && held.norm() > 0.0 {
+                // A slips against the force that would hold it. The friction was linearised
+                // about the last iterate: a turn of the slip beyond the tolerance needs another
+                // iteration, as a change of state does.
+                let slip = -held.normalize();
+                if r.state == ContactState::Slide && slip.dot(&r.slip) < SLIP_TURN_COS {
+                    changed += 1;
                 }
+                r.slip = slip;
             }
             if new != r.state {
                 changed += 1;
@@ -320,17 +376,24 @@ impl ContactSet {
             r.force = match r.state {
                 ContactState::Open => Vec3::zeros(),
                 ContactState::Stick => r.preload - kn * r.gap * n - ks * shear,
-                ContactState::Slide => n * n.dot(&r.preload) - kn * r.gap * n - r.strength.tan_phi * r.normal_force(kn) * r.slip,
+                ContactState::Slide => n * n.dot(&r.preload) - kn * r.gap * n + r.friction(kn, ks).0,
             };
         }
         changed
     }
 
-    /// After an accepted step: carry the shear-spring extension (zero unless stuck).
+    /// After an accepted step: carry the shear-spring extension. A sliding point's spring is
+    /// left at the Coulomb limit, so the force is continuous when it sticks again (a reset
+    /// spring would drop the friction force at every stick–slip flip and ratchet the block).
     pub fn accept(&mut self) {
+        let (kn, ks) = (self.params.kn, self.params.ks);
         for r in &mut self.records {
             let t = tangential(&r.normal);
-            r.shear0 = if r.state == ContactState::Stick { r.shear0 + t * r.rel } else { Vec3::zeros() };
+            r.shear0 = match r.state {
+                ContactState::Stick => r.shear0 + t * r.rel,
+                ContactState::Slide => (t * r.preload + (r.strength.tan_phi * r.normal_force(kn) + r.strength.cohesion) * r.slip) / ks,
+                ContactState::Open => Vec3::zeros(),
+            };
         }
     }
 
@@ -339,6 +402,10 @@ impl ContactSet {
         self.records.iter().filter(|r| r.state != ContactState::Open).map(|r| -r.gap).fold(0.0, f64::max)
     }
 }
+
+/// Cosine of the largest turn of a sliding point's slip direction between two open–close
+/// iterations that counts as converged (1°).
+const SLIP_TURN_COS: f64 = 0.999_847_695;
 
 /// A new point whose gap is below this fraction of the support tolerance is touching (closed):
 /// round-off must not turn blocks placed on each other into a fall and an impact.
@@ -413,6 +480,20 @@ pub fn overlap_problems(sys: &System, set: &ContactSet, depth: f64) -> Vec<Probl
 }
 
 impl ContactRecord {
+    /// Sliding friction on A at the last iterate and its tangent: f = L ĥ with ĥ the direction of
+    /// the elastic trial force h = t·P − k_s (s₀ + t·rel) and L = tan φ N + c; df/d(rel) = −K,
+    /// K = k_s min(L/|h|, 1) (t − ĥ ĥᵀ).
+    pub fn friction(&self, kn: f64, ks: f64) -> (Vec3, Mat3) {
+        let t = tangential(&self.normal);
+        let h = t * self.preload - ks * (self.shear0 + t * self.rel);
+        let limit = self.strength.tan_phi * self.normal_force(kn) + self.strength.cohesion;
+        if h.norm() <= f64::EPSILON * (limit + ks * self.shear0.norm()) {
+            return (-limit * self.slip, Mat3::zeros());
+        }
+        let hat = h.normalize();
+        (limit * hat, ks * (limit / h.norm()).min(1.0) * (t - hat * hat.transpose()))
+    }
+
     /// Compressive normal force on A after the last solve, N = n·P − k_n g, at least 0 [N].
     pub fn normal_force(&self, kn: f64) -> f64 {
         (self.normal.dot(&self.preload) - kn * self.gap).max(0.0)

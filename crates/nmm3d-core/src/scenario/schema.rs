@@ -146,6 +146,10 @@ pub struct Analysis {
     /// Strain measure: "corotational" (small strain in each ME's rotated frame) or
     /// "green_lagrange" (St Venant–Kirchhoff for large strains).
     pub strain_measure: StrainMeasure,
+    /// Before the run, solve the static equilibrium under the initial loads with every contact
+    /// locked (no sliding, no opening), then start from that state with the given velocities
+    /// at t = 0 (addition).
+    pub initial_equilibrium: bool,
 }
 
 /// Fill-reducing ordering of the sparse Cholesky factorisation.
@@ -197,6 +201,7 @@ impl Default for Analysis {
             ordering: Ordering::Auto,
             max_open_close: 12,
             open_close_cut: 0.3,
+            initial_equilibrium: false,
         }
     }
 }

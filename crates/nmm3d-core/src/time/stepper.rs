@@ -49,6 +49,8 @@ pub struct PhaseTimes {
     pub factorization: f64,
     /// Triangular solves.
     pub solve: f64,
+    /// Open–close iterations beyond the first (their factorisations and solves included).
+    pub open_close: f64,
 }
 
 /// Orchestrates steps; owns the linear solver and work buffers.
@@ -62,6 +64,8 @@ pub struct Stepper {
     tangent: Vec<f64>,
     values: Vec<f64>,
     force_scale: f64,
+    /// Contacts locked (initial equilibrium): closed points stick whatever the force.
+    locked: bool,
     /// Time per phase so far.
     pub times: PhaseTimes,
 }
@@ -89,6 +93,7 @@ impl Stepper {
             tangent: vec![0.0; nnz],
             values: vec![0.0; nnz],
             force_scale: 0.0,
+            locked: false,
             times: PhaseTimes::default(),
         };
         stepper.ensure_contact_pattern(sys);
@@ -132,7 +137,14 @@ impl Stepper {
         }
         self.ensure_contact_pattern(sys);
         let residual = self.assemble(sys, state);
-        let unbalanced = self.unbalanced_ratio(sys, &residual);
+        let unbalanced = match self.contacts.as_ref() {
+            Some(c) => {
+                let mut total = residual.clone();
+                c.add_start_forces(sys, &mut total);
+                self.unbalanced_ratio(sys, &total)
+            }
+            None => self.unbalanced_ratio(sys, &residual),
+        };
         let (mv, ma) = (mass_times(sys, &state.v), mass_times(sys, &state.a));
         let start_records = self.contacts.as_ref().map(|c| c.records.clone());
         self.times.assembly += t.elapsed().as_secs_f64();
@@ -176,13 +188,47 @@ impl Stepper {
         }
     }
 
+    /// Static equilibrium under the initial loads with every contact locked — the stressed
+    /// state a run starts from (the usual first stage of a jointed-rock model). Velocities,
+    /// time and step count are restored afterwards; returns (steps, final unbalanced ratio).
+    pub fn settle(&mut self, sys: &System, state: &mut State) -> Result<(u64, f64)> {
+        let (v, a, dt) = (state.v.clone(), state.a.clone(), state.dt);
+        state.v.iter_mut().chain(state.a.iter_mut()).for_each(|x| *x = Vec3::zeros());
+        self.locked = true;
+        let analysis = &sys.scenario.analysis;
+        let (mut steps, mut unbalanced) = (0, f64::INFINITY);
+        while steps < analysis.max_steps {
+            let r = self.step(sys, state, f64::INFINITY);
+            let r = match r {
+                Ok(r) => r,
+                Err(e) => {
+                    self.locked = false;
+                    return Err(e);
+                }
+            };
+            steps += 1;
+            unbalanced = r.unbalanced;
+            if steps > 1 && unbalanced <= analysis.equilibrium_tolerance {
+                break;
+            }
+        }
+        self.locked = false;
+        (state.v, state.a, state.dt, state.time, state.step) = (v, a, dt, 0.0, 0);
+        Ok((steps, unbalanced))
+    }
+
     /// Solve, update contact states, repeat until no contact changes state.
     #[allow(clippy::too_many_arguments)] // the Newmark coefficients travel together with the vectors they scale
     fn open_close(&mut self, sys: &System, state: &State, residual: &[Vec3], mv: &[Vec3], ma: &[Vec3], c0: f64, c1: f64, c2: f64) -> Result<(Vec<Vec3>, u32, bool)> {
         let max = sys.scenario.analysis.max_open_close;
         for it in 1..=max {
+            let clock = Instant::now();
             let d = self.solve_trial(sys, state, residual, mv, ma, c0, c1, c2)?;
-            let changed = self.contacts.as_mut().map_or(0, |c| c.update_states(sys, &d));
+            let locked = self.locked;
+            let changed = self.contacts.as_mut().map_or(0, |c| c.update_states(sys, &d, locked));
+            if it > 1 {
+                self.times.open_close += clock.elapsed().as_secs_f64();
+            }
             if changed == 0 {
                 return Ok((d, it, true));
             }
@@ -243,7 +289,7 @@ impl Stepper {
     fn accept(&self, sys: &System, state: &mut State, d: &[Vec3], dt: f64) {
         let k = self.newmark.coefficients(dt);
         let g = self.newmark.gamma;
-        let is_static = sys.scenario.analysis.kind == AnalysisKind::Static;
+        let is_static = self.locked || sys.scenario.analysis.kind == AnalysisKind::Static;
         for c in 0..d.len() {
             if !sys.dofs.moves(c) {
                 continue;

@@ -25,6 +25,16 @@ pub fn run_ok(text: &str, name: &str) -> RunOutcome {
     out
 }
 
+/// One column of `history.csv` of the run named `name` (time, values).
+#[allow(dead_code)] // not every test binary reads histories
+pub fn history(name: &str, column: &str) -> Vec<(f64, f64)> {
+    let text = std::fs::read_to_string(PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name).join("history.csv")).expect("history.csv");
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    let k = header.iter().position(|h| *h == column).unwrap_or_else(|| panic!("no column {column}"));
+    lines.map(|l| l.split(',').collect::<Vec<_>>()).map(|c| (c[0].parse().unwrap(), c[k].parse().unwrap())).collect()
+}
+
 /// A final monitor value from the summary.
 pub fn final_value(out: &RunOutcome, key: &str) -> f64 {
     out.summary["final"][key].as_f64().unwrap_or_else(|| panic!("no final value {key}"))
