@@ -106,6 +106,24 @@ impl System {
         self.dofs.n_eq
     }
 
+    /// Total linear momentum Σ M v of the movable blocks [kg m/s] (consistent masses).
+    pub fn momentum(&self, v: &[Vec3]) -> Vec3 {
+        let mut p = Vec3::zeros();
+        for (e, me) in self.covers.elements.iter().enumerate() {
+            if self.geometry.blocks[me.block].fixed {
+                continue;
+            }
+            let k = self.kernel(e);
+            let n = me.covers.len();
+            for a in 0..n {
+                for b in 0..n {
+                    p += k.mass[a * n + b] * v[me.covers[b]];
+                }
+            }
+        }
+        p
+    }
+
     /// Kernel of ME `e`.
     pub fn kernel(&self, e: usize) -> &ElementKernel {
         &self.kernels[self.kernel_of[e]]

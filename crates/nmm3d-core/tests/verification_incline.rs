@@ -47,8 +47,7 @@ initial_equilibrium = true
 pattern = "tet6"
 size = 0.5
 
-[contact]
-enabled = true
+
 
 [[material]]
 name = "rock"
@@ -120,7 +119,7 @@ fn cube_on_incline_sticks_without_creep() {
         check(phi, 90.0);
         // Not growing: the second half second adds less than a micrometre.
         let x = history(&format!("incline_{phi}_90"), "cube.displacement.x");
-        let at = |t: f64| x.iter().find(|(s, _)| *s >= t).expect("time").1;
+        let at = |t: f64| x.iter().find(|(s, _)| *s >= t - 1e-9).expect("time").1;
         let creep = (at(1.0) - at(0.5)).abs();
         assert!(creep < 1e-6, "φ = {phi}: crept {creep} m in the last 0.5 s");
     }

@@ -83,6 +83,10 @@ fn support(points: &[Vec3], n: &Vec3) -> (f64, f64) {
     points.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(n.dot(v)), hi.max(n.dot(v))))
 }
 
+/// Separations within this fraction of the coordinates' scale count as equal when the plane
+/// is chosen (face normals are tried first).
+const FACE_PREFERENCE: f64 = 1e-9;
+
 /// Tolerances of [`detect`] [m].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DetectParams {
@@ -115,7 +119,13 @@ pub fn detect(a: &ConvexPolyhedron, b: &ConvexPolyhedron, params: &DetectParams)
         }
     }
     let separation = |n: &Vec3| support(&va, n).0 - support(&vb, n).1;
-    let (best, sep) = axes.iter().map(|n| (*n, separation(n))).fold((Vec3::z(), f64::NEG_INFINITY), |acc, x| if x.1 > acc.1 { x } else { acc });
+    let seps: Vec<f64> = axes.iter().map(separation).collect();
+    let top = seps.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    // Ties go to the first axis within round-off of the best, and face normals come first:
+    // two blocks meeting on a face must not be given an edge–edge plane through that face.
+    let tie = FACE_PREFERENCE * va.iter().chain(&vb).map(|x| x.norm()).fold(1.0, f64::max);
+    let k = seps.iter().position(|&s| s >= top - tie).unwrap_or(0);
+    let (best, sep) = (axes.get(k).copied().unwrap_or(Vec3::z()), seps.get(k).copied().unwrap_or(top));
     if sep > margin {
         return None;
     }

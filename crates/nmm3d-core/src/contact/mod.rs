@@ -24,6 +24,7 @@
 //! lost when it opens.
 
 pub mod broad;
+pub mod facets;
 pub mod surface;
 
 use std::time::Instant;
@@ -32,6 +33,7 @@ use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
 use nmm3d_geom::contact::{detect, Contact, DetectParams, Mode};
+use nmm3d_geom::ConvexPolyhedron;
 use nmm3d_geom::{Mat3, Vec3};
 
 use crate::error::Problem;
@@ -39,6 +41,7 @@ use crate::scenario::Joint;
 use crate::state::State;
 use crate::system::System;
 use broad::Warning;
+use facets::Candidate;
 use surface::{ContactPiece, MaterialPoint};
 
 /// State of one contact point.
@@ -88,6 +91,10 @@ pub struct ContactRecord {
     pub strength: Strength,
     /// The point's share of the contact area [m²].
     pub area: f64,
+    /// Normal penalty of this point [N/m].
+    pub kn: f64,
+    /// Shear penalty of this point [N/m].
+    pub ks: f64,
     /// In-situ traction on A times the area [N] (zero once the point has opened).
     pub preload: Vec3,
     /// Gap after the last solve [m].
@@ -118,10 +125,13 @@ impl Strength {
 /// Penalties and tolerances of the contact algorithm.
 #[derive(Debug, Clone, Copy)]
 pub struct ContactParams {
-    /// Normal penalty [N/m].
+    /// Normal penalty of a point carrying one cover cell's face of area (size²), and of a point
+    /// contact [N/m].
     pub kn: f64,
-    /// Shear penalty [N/m].
+    /// Shear penalty, likewise [N/m].
     pub ks: f64,
+    /// Cover size [m]: the area unit of the penalties.
+    pub size: f64,
     /// Detection margin [m].
     pub margin: f64,
     /// Warning skin [m]: the candidate list is rebuilt when a vertex has moved half of it.
@@ -141,6 +151,8 @@ pub struct ContactSet {
     pub warning: Warning,
     /// Seconds spent so far.
     pub times: ContactTimes,
+    /// Closed points stay closed and stuck whatever the force (initial equilibrium).
+    pub locked: bool,
 }
 
 /// Seconds spent in the contact phases.
@@ -165,7 +177,7 @@ impl ContactSet {
             .enumerate()
             .flat_map(|(b, block)| block.pieces.iter().filter_map(move |p| ContactPiece::new(sys, b, p)))
             .collect();
-        Some(Self { pieces, records: Vec::new(), params, warning: Warning::default(), times: ContactTimes::default() })
+        Some(Self { pieces, records: Vec::new(), params, warning: Warning::default(), times: ContactTimes::default(), locked: false })
     }
 
     /// Re-detect on the current geometry; transfer state, shear, preload and bond from the
@@ -182,24 +194,24 @@ impl ContactSet {
         self.times.warning += clock.elapsed().as_secs_f64();
         let clock = Instant::now();
         // A is the piece of the higher block index.
-        let found: Vec<(usize, usize, Contact)> = pairs
+        let found: Vec<(usize, usize, Vec3, Vec<Candidate>)> = pairs
             .par_iter()
             .map(|&(i, j)| if pieces[i].block > pieces[j].block { (i, j) } else { (j, i) })
-            .filter_map(|(i, j)| detect(&current[i], &current[j], &dp).map(|c| (i, j, c)))
+            .filter_map(|(i, j)| {
+                let c = detect(&current[i], &current[j], &dp)?;
+                Some((i, j, c.normal, candidates(sys, state, (&pieces[i], &pieces[j]), (&current[i], &current[j]), &c, p.tolerance)))
+            })
             .collect();
         let previous = std::mem::take(&mut self.records);
         let mut by_pair: FxHashMap<(usize, usize), Vec<usize>> = FxHashMap::default();
         for (k, r) in previous.iter().enumerate() {
             by_pair.entry(r.blocks).or_default().push(k);
         }
-        for (i, j, c) in found {
+        for (i, j, normal, points) in found {
             let (pa, pb) = (&self.pieces[i], &self.pieces[j]);
             let joint = joint_between(sys, pa.block, pb.block);
-            let area = if c.points.is_empty() { 0.0 } else { c.area / c.points.len() as f64 };
-            for q in &c.points {
-                let xa = pa.reference_of(&current[i], &q.on_a);
-                let xb = pb.reference_of(&current[j], &q.on_b);
-                let (Some(a), Some(b)) = (MaterialPoint::new(sys, pa.block, xa), MaterialPoint::new(sys, pb.block, xb)) else { continue };
+            for q in points {
+                let (a, b, area) = (q.a, q.b, q.area);
                 // Touching counts as closed: blocks placed on each other start in contact.
                 let touching = q.gap <= TOUCHING * p.tolerance;
                 let tan_phi = joint.map_or(0.0, |j| j.friction_angle.to_radians().tan());
@@ -209,7 +221,7 @@ impl ContactSet {
                     mode: q.mode,
                     a,
                     b,
-                    normal: c.normal,
+                    normal,
                     gap0: q.gap,
                     state: if touching { ContactState::Stick } else { ContactState::Open },
                     shear0: Vec3::zeros(),
@@ -220,14 +232,18 @@ impl ContactSet {
                         tension: if bonded { joint.map_or(0.0, |j| j.tensile_strength) * area } else { 0.0 },
                     },
                     area,
-                    preload: if bonded { in_situ_traction(sys, &q.on_a, &c.normal) * area } else { Vec3::zeros() },
+                    kn: p.kn * stiffness_share(area, p.size),
+                    ks: p.ks * stiffness_share(area, p.size),
+                    preload: if bonded { in_situ_traction(sys, &q.on_a, &normal) * area } else { Vec3::zeros() },
                     gap: q.gap,
                     rel: Vec3::zeros(),
                     force: Vec3::zeros(),
                 };
                 if let Some(old) = nearest(&previous, by_pair.get(&r.blocks), &r.a.reference, 10.0 * p.tolerance) {
                     if old.state != ContactState::Open {
-                        r.state = if r.gap0 < 0.0 { old.state } else { ContactState::Open };
+                        // Still closed unless the springs would pull harder than the bond holds.
+                        let pull = r.kn * r.gap0 - r.normal.dot(&old.preload);
+                        r.state = if self.locked || pull < old.strength.tension { old.state } else { ContactState::Open };
                         let t = tangential(&r.normal);
                         r.shear0 = t * old.shear0;
                         r.slip = old.slip;
@@ -238,6 +254,16 @@ impl ContactSet {
                             // Linearise the friction about the last step's slip, not about rest.
                             r.rel = old.rel;
                         }
+                    }
+                } else if let Some(old) = nearest(&previous, by_pair.get(&r.blocks), &r.a.reference, f64::INFINITY) {
+                    // A new point of a pair already sliding (its points move on with the
+                    // slip) slides too, at the Coulomb limit, instead of braking as a fresh
+                    // stuck spring for one iteration.
+                    if old.state == ContactState::Slide && r.state == ContactState::Stick {
+                        r.state = ContactState::Slide;
+                        r.slip = old.slip;
+                        r.rel = old.rel;
+                        r.shear0 = r.slip * (tan_phi * (-r.kn * r.gap0).max(0.0) / r.ks);
                     }
                 }
                 self.records.push(r);
@@ -267,7 +293,7 @@ impl ContactSet {
         if r.state == ContactState::Open {
             return (mat, f);
         }
-        let (kn, ks) = (self.params.kn, self.params.ks);
+        let (kn, ks) = (r.kn, r.ks);
         let n = r.normal;
         let t = tangential(&n);
         let mut block = kn * n * n.transpose();
@@ -283,7 +309,7 @@ impl ContactSet {
                 // tangent; Wriggers, Computational Contact Mechanics §5.2): the force keeps
                 // the Coulomb magnitude and turns with the trial direction, so sideways motion
                 // of a sliding point meets stiffness instead of a fixed-direction force.
-                let (f_k, k_t) = r.friction(kn, ks);
+                let (f_k, k_t) = r.friction();
                 block += k_t;
                 force += n * n.dot(&r.preload) + f_k + k_t * r.rel;
             }
@@ -307,13 +333,12 @@ impl ContactSet {
     /// Add each point's force at the start of the step (springs at the start gaps and
     /// extensions) to the per-cover forces `f`.
     pub fn add_start_forces(&self, sys: &System, f: &mut [Vec3]) {
-        let kn = self.params.kn;
         for r in &self.records {
-            let n = r.normal;
+            let (n, kn) = (r.normal, r.kn);
             let spring = -kn * r.gap0 * n;
             let force = match r.state {
                 ContactState::Open => continue,
-                ContactState::Stick => r.preload + spring - self.params.ks * r.shear0,
+                ContactState::Stick => r.preload + spring - r.ks * r.shear0,
                 ContactState::Slide => {
                     let normal = (n.dot(&r.preload) - kn * r.gap0).max(0.0);
                     n * n.dot(&r.preload) + spring - (r.strength.tan_phi * normal + r.strength.cohesion) * r.slip
@@ -328,16 +353,26 @@ impl ContactSet {
     }
 
     /// Update every point from the solved increments `d`; returns how many changed state.
-    /// `locked`: closed points stick whatever the force (initial equilibrium).
-    pub fn update_states(&mut self, sys: &System, d: &[Vec3], locked: bool) -> usize {
-        let (kn, ks) = (self.params.kn, self.params.ks);
+    pub fn update_states(&mut self, sys: &System, d: &[Vec3]) -> usize {
+        let locked = self.locked;
         let mut changed = 0;
+        // Largest change of a sliding point's friction force, and the largest friction limit.
+        let (mut turned, mut largest) = (0.0f64, 0.0f64);
         for r in &mut self.records {
             let inc = |mp: &MaterialPoint| -> Vec3 { sys.covers.elements[mp.element].covers.iter().zip(&mp.weights).map(|(&c, w)| *w * d[c]).sum() };
+            // The friction this solve used (linearised about the last iterate).
+            let used = (r.state == ContactState::Slide).then(|| r.friction().0);
             r.rel = inc(&r.a) - inc(&r.b);
             r.gap = r.gap0 + r.normal.dot(&r.rel);
+            let (kn, ks) = (r.kn, r.ks);
             let n = r.normal;
             let t = tangential(&n);
+            if r.state == ContactState::Open && r.gap <= 0.0 {
+                // Closing: the shear spring starts where the point entered (the fraction of
+                // the step's motion spent closing the gap does not stretch it; DDA's entrance).
+                let entered = if r.gap0 > 0.0 { r.gap0 / (r.gap0 - r.gap) } else { 0.0 };
+                r.shear0 = -entered * (t * r.rel);
+            }
             let shear = r.shear0 + t * r.rel;
             // Elastic trial: forces on A if the springs held (return mapping onto the Coulomb
             // limit, as in 3DEC; a sliding point's spring sits at the limit, see `accept`).
@@ -345,23 +380,20 @@ impl ContactSet {
             let held = t * r.preload - ks * shear;
             let s = r.strength;
             let limit = s.tan_phi * normal.max(0.0) + s.cohesion;
+            let closing = r.state == ContactState::Open;
             let new = match r.state {
                 ContactState::Open if r.gap > 0.0 => ContactState::Open,
-                ContactState::Open => ContactState::Stick,
                 _ if locked => ContactState::Stick,
-                _ if normal < -s.tension => ContactState::Open,
+                _ if !closing && normal < -s.tension => ContactState::Open,
+                // A closing point sticks or slides by the same Coulomb test (a point entering
+                // while the blocks slip slides at once instead of braking for an iteration).
                 _ if held.norm() > limit => ContactState::Slide,
                 _ => ContactState::Stick,
             };
             if new == ContactState::Slide && held.norm() > 0.0 {
-                // A slips against the force that would hold it. The friction was linearised
-                // about the last iterate: a turn of the slip beyond the tolerance needs another
-                // iteration, as a change of state does.
-                let slip = -held.normalize();
-                if r.state == ContactState::Slide && slip.dot(&r.slip) < SLIP_TURN_COS {
-                    changed += 1;
-                }
-                r.slip = slip;
+                // A slips against the force that would hold it.
+                largest = largest.max(limit);
+                r.slip = -held.normalize();
             }
             if new != r.state {
                 changed += 1;
@@ -376,8 +408,21 @@ impl ContactSet {
             r.force = match r.state {
                 ContactState::Open => Vec3::zeros(),
                 ContactState::Stick => r.preload - kn * r.gap * n - ks * shear,
-                ContactState::Slide => n * n.dot(&r.preload) - kn * r.gap * n + r.friction(kn, ks).0,
+                ContactState::Slide => {
+                    let f = r.friction().0;
+                    if let Some(u) = used {
+                        turned = turned.max((f - u).norm());
+                    }
+                    n * n.dot(&r.preload) - kn * r.gap * n + f
+                }
             };
+        }
+        // The friction was linearised about the last iterate (its magnitude from the last
+        // normal force, its direction from the last trial): if some sliding point's friction
+        // changed by more than the tolerance (relative to the largest friction force), iterate
+        // again, as for a change of state.
+        if turned > SLIP_TURN * largest {
+            changed += 1;
         }
         changed
     }
@@ -386,12 +431,11 @@ impl ContactSet {
     /// left at the Coulomb limit, so the force is continuous when it sticks again (a reset
     /// spring would drop the friction force at every stick–slip flip and ratchet the block).
     pub fn accept(&mut self) {
-        let (kn, ks) = (self.params.kn, self.params.ks);
         for r in &mut self.records {
             let t = tangential(&r.normal);
             r.shear0 = match r.state {
                 ContactState::Stick => r.shear0 + t * r.rel,
-                ContactState::Slide => (t * r.preload + (r.strength.tan_phi * r.normal_force(kn) + r.strength.cohesion) * r.slip) / ks,
+                ContactState::Slide => (t * r.preload + (r.strength.tan_phi * r.normal_force() + r.strength.cohesion) * r.slip) / r.ks,
                 ContactState::Open => Vec3::zeros(),
             };
         }
@@ -403,9 +447,10 @@ impl ContactSet {
     }
 }
 
-/// Cosine of the largest turn of a sliding point's slip direction between two open–close
-/// iterations that counts as converged (1°).
-const SLIP_TURN_COS: f64 = 0.999_847_695;
+/// Largest change of a sliding point's friction force between two open–close iterations,
+/// relative to the largest friction limit, that counts as converged (about a 1° turn, or a
+/// 1.7 % change, of the largest).
+const SLIP_TURN: f64 = 0.017_45;
 
 /// A new point whose gap is below this fraction of the support tolerance is touching (closed):
 /// round-off must not turn blocks placed on each other into a fall and an impact.
@@ -424,6 +469,42 @@ fn tangential(n: &Vec3) -> Mat3 {
 fn both_fixed(sys: &System, a: usize, b: usize) -> bool {
     sys.geometry.blocks[a].fixed && sys.geometry.blocks[b].fixed
 }
+
+/// Contact point candidates of a detected pair: on the facets for a face-to-face contact, else
+/// the piece-level points (area shared equally).
+fn candidates(sys: &System, state: &State, (pa, pb): (&ContactPiece, &ContactPiece), (ca, cb): (&ConvexPolyhedron, &ConvexPolyhedron), c: &Contact, tol: f64) -> Vec<Candidate> {
+    let n = c.normal;
+    let level = |p: &ConvexPolyhedron, f: fn(f64, f64) -> f64, init: f64| p.faces.iter().flat_map(|x| x.vertices.iter()).map(|v| n.dot(v)).fold(init, f);
+    let (level_a, level_b) = (level(ca, f64::min, f64::INFINITY), level(cb, f64::max, f64::NEG_INFINITY));
+    let on_facets = facets::overlay(sys, state, &pa.facets, &pb.facets, &n, level_a, level_b, tol, MERGE * tol);
+    if !on_facets.is_empty() {
+        return on_facets;
+    }
+    let area = if c.points.is_empty() { 0.0 } else { c.area / c.points.len() as f64 };
+    c.points
+        .iter()
+        .filter_map(|q| {
+            let a = MaterialPoint::new(sys, pa.block, pa.reference_of(ca, &q.on_a))?;
+            let b = MaterialPoint::new(sys, pb.block, pb.reference_of(cb, &q.on_b))?;
+            Some(Candidate { mode: q.mode, a, b, on_a: q.on_a, gap: q.gap, area })
+        })
+        .collect()
+}
+
+/// A point's penalties relative to `ContactParams::kn`, `ks`: its share of the contact area
+/// over one cover cell's face (size²), so a face carries the same stiffness per area however
+/// finely its points fall (at least [`MIN_SHARE`]); a point contact (no area) takes them whole.
+fn stiffness_share(area: f64, size: f64) -> f64 {
+    if area > 0.0 { (area / (size * size)).max(MIN_SHARE) } else { 1.0 }
+}
+
+/// Smallest stiffness share of a point of an area contact.
+const MIN_SHARE: f64 = 0.05;
+
+/// Facet overlay corners closer than this multiple of the support tolerance are one point (the
+/// thinning distance of the piece-level points): near-identical facets of A and B would
+/// otherwise give near-duplicate crossings that come and go as the blocks move.
+const MERGE: f64 = 10.0;
 
 /// The joint between two blocks: an interface naming both bodies, else A's body joint, else B's.
 fn joint_between(sys: &System, a: usize, b: usize) -> Option<&Joint> {
@@ -483,10 +564,11 @@ impl ContactRecord {
     /// Sliding friction on A at the last iterate and its tangent: f = L ĥ with ĥ the direction of
     /// the elastic trial force h = t·P − k_s (s₀ + t·rel) and L = tan φ N + c; df/d(rel) = −K,
     /// K = k_s min(L/|h|, 1) (t − ĥ ĥᵀ).
-    pub fn friction(&self, kn: f64, ks: f64) -> (Vec3, Mat3) {
+    pub fn friction(&self) -> (Vec3, Mat3) {
+        let ks = self.ks;
         let t = tangential(&self.normal);
         let h = t * self.preload - ks * (self.shear0 + t * self.rel);
-        let limit = self.strength.tan_phi * self.normal_force(kn) + self.strength.cohesion;
+        let limit = self.strength.tan_phi * self.normal_force() + self.strength.cohesion;
         if h.norm() <= f64::EPSILON * (limit + ks * self.shear0.norm()) {
             return (-limit * self.slip, Mat3::zeros());
         }
@@ -495,7 +577,7 @@ impl ContactRecord {
     }
 
     /// Compressive normal force on A after the last solve, N = n·P − k_n g, at least 0 [N].
-    pub fn normal_force(&self, kn: f64) -> f64 {
-        (self.normal.dot(&self.preload) - kn * self.gap).max(0.0)
+    pub fn normal_force(&self) -> f64 {
+        (self.normal.dot(&self.preload) - self.kn * self.gap).max(0.0)
     }
 }

@@ -3,6 +3,7 @@
 
 use nmm3d_geom::{ConvexPolyhedron, Face, FaceTag, Vec3};
 
+use super::facets::{facets_of_piece, Facet};
 use crate::element::loads::weights_at;
 use crate::state::State;
 use crate::system::System;
@@ -26,6 +27,11 @@ impl MaterialPoint {
         Some(Self { element: e, weights: weights_at(&sys.covers, &sys.covers.elements[e], &x), reference: x })
     }
 
+    /// A reference point known to lie in ME `element`.
+    pub fn on_element(sys: &System, element: usize, x: Vec3) -> Self {
+        Self { element, weights: weights_at(&sys.covers, &sys.covers.elements[element], &x), reference: x }
+    }
+
     /// Current displacement [m].
     pub fn displacement(&self, sys: &System, state: &State) -> Vec3 {
         sys.covers.elements[self.element].covers.iter().zip(&self.weights).map(|(&c, w)| *w * state.u[c]).sum()
@@ -42,6 +48,8 @@ impl MaterialPoint {
 pub struct ContactPiece {
     /// Block index.
     pub block: usize,
+    /// The boundary facets of the block's MEs on this piece.
+    pub facets: Vec<Facet>,
     /// Distinct vertices as material points.
     pub vertices: Vec<MaterialPoint>,
     /// Faces as vertex indices (outward, counter-clockwise), with their tags.
@@ -59,7 +67,7 @@ impl ContactPiece {
             .iter()
             .map(|f| (f.vertices.iter().map(|v| refs.iter().position(|w| (w - v).norm() <= tol).expect("vertex")).collect(), f.tag))
             .collect();
-        Some(Self { block, vertices, faces })
+        Some(Self { block, vertices, faces, facets: facets_of_piece(sys, block, piece) })
     }
 
     /// Current geometry.
@@ -89,7 +97,7 @@ impl ContactPiece {
 
 /// Barycentric coordinates of the point of triangle (a, b, c) nearest `p` (clamped), and the
 /// distance to it.
-fn barycentric(p: &Vec3, a: &Vec3, b: &Vec3, c: &Vec3) -> ([f64; 3], f64) {
+pub(crate) fn barycentric(p: &Vec3, a: &Vec3, b: &Vec3, c: &Vec3) -> ([f64; 3], f64) {
     let (e1, e2, d) = (b - a, c - a, p - a);
     let (d11, d12, d22) = (e1.dot(&e1), e1.dot(&e2), e2.dot(&e2));
     let (d1, d2) = (d.dot(&e1), d.dot(&e2));

@@ -282,16 +282,22 @@ impl Default for CoverSpec {
 }
 
 /// `[contact]`.
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct ContactSpec {
-    /// Contact between blocks (addition; off by default until the contact treatment is
-    /// complete — see docs/theory/contact.md).
+    /// Contact between blocks (addition; `false` lets blocks pass through each other, for
+    /// continuum checks).
     pub enabled: bool,
     /// Normal penalty [N/m] or "auto".
     pub normal_stiffness: Stiffness,
     /// Shear penalty [N/m] or "auto".
     pub shear_stiffness: Stiffness,
+}
+
+impl Default for ContactSpec {
+    fn default() -> Self {
+        Self { enabled: true, normal_stiffness: Stiffness::Auto, shear_stiffness: Stiffness::Auto }
+    }
 }
 
 /// `[cutting]`: controls of the rock-mass cutting.

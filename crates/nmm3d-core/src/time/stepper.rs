@@ -194,7 +194,7 @@ impl Stepper {
     pub fn settle(&mut self, sys: &System, state: &mut State) -> Result<(u64, f64)> {
         let (v, a, dt) = (state.v.clone(), state.a.clone(), state.dt);
         state.v.iter_mut().chain(state.a.iter_mut()).for_each(|x| *x = Vec3::zeros());
-        self.locked = true;
+        self.lock(true);
         let analysis = &sys.scenario.analysis;
         let (mut steps, mut unbalanced) = (0, f64::INFINITY);
         while steps < analysis.max_steps {
@@ -202,7 +202,7 @@ impl Stepper {
             let r = match r {
                 Ok(r) => r,
                 Err(e) => {
-                    self.locked = false;
+                    self.lock(false);
                     return Err(e);
                 }
             };
@@ -212,9 +212,16 @@ impl Stepper {
                 break;
             }
         }
-        self.locked = false;
+        self.lock(false);
         (state.v, state.a, state.dt, state.time, state.step) = (v, a, dt, 0.0, 0);
         Ok((steps, unbalanced))
+    }
+
+    fn lock(&mut self, locked: bool) {
+        self.locked = locked;
+        if let Some(c) = self.contacts.as_mut() {
+            c.locked = locked;
+        }
     }
 
     /// Solve, update contact states, repeat until no contact changes state.
@@ -224,8 +231,7 @@ impl Stepper {
         for it in 1..=max {
             let clock = Instant::now();
             let d = self.solve_trial(sys, state, residual, mv, ma, c0, c1, c2)?;
-            let locked = self.locked;
-            let changed = self.contacts.as_mut().map_or(0, |c| c.update_states(sys, &d, locked));
+            let changed = self.contacts.as_mut().map_or(0, |c| c.update_states(sys, &d));
             if it > 1 {
                 self.times.open_close += clock.elapsed().as_secs_f64();
             }
@@ -416,7 +422,7 @@ fn contact_params(sys: &System) -> ContactParams {
     };
     let tolerance = CONTACT_TOLERANCE * size;
     let margin = 2.0 * a.max_displacement_ratio * sys.half_size + tolerance;
-    ContactParams { kn, ks, margin, skin: WARNING_SKIN * margin, tolerance }
+    ContactParams { kn, ks, size, margin, skin: WARNING_SKIN * margin, tolerance }
 }
 
 /// Warning skin as a multiple of the detection margin (larger: fewer rebuilds, more pairs).

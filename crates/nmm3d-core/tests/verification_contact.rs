@@ -1,0 +1,473 @@
+//! Verification of the contact algorithm beyond the incline: joint strength (cohesion, tensile
+//! strength), in-situ stress as joint traction (roof wedge, case C1), stacked blocks at rest,
+//! impact (i) and collision, and overlapping input.
+
+mod common;
+
+use common::{final_value, history, run_ok, scenario};
+use nmm3d_core::error::Error;
+use nmm3d_core::simulation::RunOutcome;
+use nmm3d_core::state::State;
+use nmm3d_core::system::System;
+use nmm3d_core::time::Stepper;
+
+/// Materials, joint, base slab and analysis shared by the cube cases; `extra` adds bodies etc.
+fn cube_case(analysis: &str, joint: &str, extra: &str) -> String {
+    format!(
+        r#"
+[analysis]
+{analysis}
+output_interval = 0.0
+
+[cover]
+pattern = "tet6"
+size = 0.5
+
+[[material]]
+name = "rock"
+density = 2500.0
+young = 10.0e9
+poisson = 0.0
+
+[[joint]]
+name = "j"
+{joint}
+
+{extra}
+"#
+    )
+}
+
+fn incline_planes(alpha_deg: f64) -> (String, String) {
+    let a = alpha_deg.to_radians();
+    let n = [0.0, a.sin(), a.cos()];
+    let s = [0.0, a.cos(), -a.sin()];
+    let plane = |v: [f64; 3], d: f64| format!("[{}, {}, {}, {}]", v[0], v[1], v[2], d);
+    let neg = |v: [f64; 3]| [-v[0], -v[1], -v[2]];
+    let x = [1.0, 0.0, 0.0];
+    let base = [plane(n, 0.0), plane(neg(n), 3.0), plane(s, 4.0), plane(neg(s), 4.0), plane(x, 2.5), plane(neg(x), 2.5)].join(", ");
+    let slab = [plane(neg(n), 0.0), plane(n, 0.5), plane(s, 0.5), plane(neg(s), 0.5), plane(x, 0.5), plane(neg(x), 0.5)].join(", ");
+    (base, slab)
+}
+
+/// A 1 × 1 × 0.5 m slab on a frictionless 30° incline glued by cohesion c [Pa]; returns the
+/// slide [m]. (Squat, so the whole base stays in compression: a 1 m cube's uphill third would
+/// lift off and break its bond in tension.)
+fn glued_cube_slide(cohesion: f64, name: &str) -> f64 {
+    let (base, cube) = incline_planes(30.0);
+    let text = cube_case(
+        "duration = 0.5\ndt = 0.002\nmax_displacement_ratio = 0.002\ngravity = [0.0, 0.0, -10.0]\ninitial_equilibrium = true",
+        &format!("friction_angle = 0.0\ncohesion = {cohesion}"),
+        &format!(
+            r#"
+[[body]]
+name = "base"
+material = "rock"
+fixed = true
+shape = {{ convex = {{ planes = [{base}] }} }}
+
+[[body]]
+name = "cube"
+material = "rock"
+joint = "j"
+shape = {{ convex = {{ planes = [{cube}] }} }}
+
+[[monitor]]
+name = "cube"
+select = {{ body = "cube" }}
+quantities = ["displacement"]
+"#
+        ),
+    );
+    let out = run_ok(&text, name);
+    // Down-dip is (0, cos α, −sin α).
+    let a = 30f64.to_radians();
+    final_value(&out, "cube.displacement.y") * a.cos() - final_value(&out, "cube.displacement.z") * a.sin()
+}
+
+#[test]
+fn cohesion_holds_a_cube_until_the_shear_exceeds_c_times_area() {
+    // Driving force W sin α = 2500 × 10 × 0.5 × ½ = 6.25 kN on 1 m².
+    let driving = 6_250.0;
+    let held = glued_cube_slide(1.3 * driving, "cohesion_holds");
+    assert!(held.abs() < 1e-5, "c A = 1.3 W sin α: slid {held} m");
+    // Broken bond, no friction: slides as ½ g sin α t² = 0.625 m at t = 0.5 s.
+    let slid = glued_cube_slide(0.7 * driving, "cohesion_breaks");
+    assert!((slid - 0.625).abs() < 0.01 * 0.625, "c A = 0.7 W sin α: slid {slid} m, frictionless 0.625 m");
+}
+
+/// A 1 m cube hanging under a fixed slab, bonded by tensile strength T and cohesion T [Pa]
+/// (with c = 0 a joint in tension has no shear strength at all); returns its fall [m].
+fn hanging_cube_fall(tensile: f64, name: &str) -> f64 {
+    let text = cube_case(
+        "duration = 0.5\ndt = 0.002\nmax_displacement_ratio = 0.01\ngravity = [0.0, 0.0, -10.0]\ninitial_equilibrium = true",
+        &format!("friction_angle = 30.0\ntensile_strength = {tensile}\ncohesion = {tensile}"),
+        r#"
+[[body]]
+name = "roof"
+material = "rock"
+fixed = true
+shape = { box = { min = [-2.0, -2.0, 1.0], max = [2.0, 2.0, 2.0] } }
+
+[[body]]
+name = "cube"
+material = "rock"
+joint = "j"
+shape = { box = { min = [-0.5, -0.5, 0.0], max = [0.5, 0.5, 1.0] } }
+
+[[monitor]]
+name = "cube"
+select = { body = "cube" }
+quantities = ["displacement"]
+"#,
+    );
+    let out = run_ok(&text, name);
+    -final_value(&out, "cube.displacement.z")
+}
+
+#[test]
+fn tensile_strength_holds_a_hanging_cube_until_the_weight_exceeds_t_times_area() {
+    let weight = 25_000.0; // N on 1 m²
+    let held = hanging_cube_fall(1.3 * weight, "tension_holds");
+    assert!(held.abs() < 1e-5, "T A = 1.3 W: fell {held} m");
+    let fell = hanging_cube_fall(0.7 * weight, "tension_breaks");
+    assert!((fell - 1.25).abs() < 0.01 * 1.25, "T A = 0.7 W: fell {fell} m, free fall 1.25 m");
+}
+
+/// Roof wedge C1 (verification case (c)): three joints dipping 60° (dip directions 30°, 150°,
+/// 270°), apex 1 m above the roof z = 0; σ_xx = σ_yy = −0.05 MPa; ρ = 2000, g = 10;
+/// k_n = k_s = 10 MPa/m. Returns the wedge's vertical displacement after 0.5 s [m].
+fn roof_wedge(phi: f64, name: &str) -> f64 {
+    let r = 2.0 / 3f64.sqrt(); // circumradius of the base triangle (side 2 m)
+    let base = [[r, 0.0], [-0.5 * r, 1.0], [-0.5 * r, -1.0]];
+    let apex = [0.0, 0.0, 1.0];
+    let v = |p: [f64; 2]| format!("[{}, {}, 0.0]", p[0], p[1]);
+    let wedge = format!(
+        "{{ polyhedron = {{ vertices = [{}, {}, {}, [0.0, 0.0, 1.0]], faces = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [2, 0, 3]] }} }}",
+        v(base[0]),
+        v(base[1]),
+        v(base[2])
+    );
+    // Rock beyond each face: the half-space outside the face within a box above the roof.
+    let mut rock = String::new();
+    for (i, (p, q)) in [(base[0], base[1]), (base[1], base[2]), (base[2], base[0])].into_iter().enumerate() {
+        let e1 = [q[0] - p[0], q[1] - p[1], 0.0];
+        let e2 = [apex[0] - p[0], apex[1] - p[1], apex[2]];
+        // Outward normal of the wedge face (p, q, apex) = e1 × e2.
+        let n = [e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]];
+        let d = n[0] * p[0] + n[1] * p[1];
+        rock += &format!(
+            r#"
+[[body]]
+name = "rock{i}"
+material = "rock"
+fixed = true
+shape = {{ convex = {{ planes = [[{}, {}, {}, {}], [1, 0, 0, 3], [-1, 0, 0, 3], [0, 1, 0, 3], [0, -1, 0, 3], [0, 0, 1, 3], [0, 0, -1, 0]] }} }}
+"#,
+            -n[0], -n[1], -n[2], -d
+        );
+    }
+    let k = 10.0e6 * 0.5 * 0.5; // 10 MPa/m over one cover cell's face (size²)
+    let text = format!(
+        r#"
+[analysis]
+duration = 0.5
+dt = 0.002
+max_displacement_ratio = 0.01
+gravity = [0.0, 0.0, -10.0]
+output_interval = 0.0
+initial_equilibrium = true
+
+[cover]
+pattern = "tet6"
+size = 0.5
+
+[contact]
+normal_stiffness = {k}
+shear_stiffness = {k}
+
+[in_situ_stress]
+stress = [-5.0e4, -5.0e4, 0.0, 0.0, 0.0, 0.0]
+
+[[material]]
+name = "rock"
+density = 2000.0
+young = 10.0e9
+poisson = 0.0
+
+[[joint]]
+name = "j"
+friction_angle = {phi}
+{rock}
+[[body]]
+name = "wedge"
+material = "rock"
+joint = "j"
+shape = {wedge}
+
+[[monitor]]
+name = "wedge"
+select = {{ body = "wedge" }}
+quantities = ["displacement"]
+"#
+    );
+    let out = run_ok(&text, name);
+    final_value(&out, "wedge.displacement.z")
+}
+
+/// φ_c of the roof wedge with k_s = k_n: tan(φ_c − α) = W cos α / (σ_n ΣA).
+fn roof_wedge_critical_angle() -> f64 {
+    let alpha = 30f64.to_radians(); // semi-apical angle = 90° − dip
+    let sigma_n = 0.05e6 * alpha.cos().powi(2);
+    let r: f64 = 2.0 / 3f64.sqrt();
+    let area = 3.0 * 2.0 * (1.0 + 0.25 * r * r).sqrt() / 2.0;
+    let weight = 2000.0 * 10.0 * (3f64.sqrt() / 4.0 * 4.0) / 3.0;
+    ((weight * alpha.cos() / (sigma_n * area)).atan() + alpha).to_degrees()
+}
+
+#[test]
+fn roof_wedge_held_by_in_situ_stress_stays_above_and_falls_below_the_critical_angle() {
+    let phi_c = roof_wedge_critical_angle();
+    assert!((phi_c - 34.40).abs() < 0.01, "closed form {phi_c}");
+    // Stable: settles W / (k ΣA) = 0.333 mm (with k_s = k_n every spring pushes straight up).
+    let settled = -roof_wedge(phi_c + 1.0, "roof_wedge_stays");
+    assert!((settled - 0.333e-3).abs() < 0.05 * 0.333e-3, "φ_c + 1°: settled {settled} m, expected 0.333 mm");
+    let z = history("roof_wedge_stays", "wedge.displacement.z");
+    let growth = (z.last().unwrap().1 - z[z.len() / 2].1).abs();
+    assert!(growth < 1e-6, "φ_c + 1°: still moving ({growth} m over the last 0.25 s)");
+    let fallen = -roof_wedge(phi_c - 1.0, "roof_wedge_falls");
+    assert!(fallen > 0.01, "φ_c − 1°: moved only {fallen} m");
+}
+
+/// A tower of `n` 1 m cubes on a fixed slab; dynamic with gravity for `steps` steps.
+fn tower(n: usize, steps: u64, name: &str) -> RunOutcome {
+    let mut bodies = String::from(
+        r#"
+[[body]]
+name = "base"
+material = "rock"
+fixed = true
+shape = { box = { min = [-2.0, -2.0, -1.0], max = [2.0, 2.0, 0.0] } }
+"#,
+    );
+    for k in 0..n {
+        bodies += &format!(
+            r#"
+[[body]]
+name = "cube{k}"
+material = "rock"
+joint = "j"
+shape = {{ box = {{ min = [-0.5, -0.5, {k}.0], max = [0.5, 0.5, {}.0] }} }}
+
+[[monitor]]
+name = "cube{k}"
+select = {{ body = "cube{k}" }}
+quantities = ["displacement"]
+"#,
+            k + 1
+        );
+    }
+    let text = cube_case(
+        &format!("duration = 1.0e3\ndt = 0.001\nmax_steps = {steps}\nmax_displacement_ratio = 0.001\ngravity = [0.0, 0.0, -10.0]"),
+        "friction_angle = 30.0",
+        &bodies,
+    );
+    run_ok(&text, name)
+}
+
+#[test]
+fn block_on_block_and_a_three_block_tower_rest_without_drift() {
+    let (rho, g, e, h) = (2500.0, 10.0, 10.0e9, 1.0);
+    let weight = rho * g * h;
+    let kn = 10.0 * e * 0.5; // "auto": 10 E × cover size, per point; four points per face
+    for n in [2usize, 3] {
+        let name = format!("tower_{n}");
+        let out = tower(n, 4000, &name);
+        let pen = out.summary["max_penetration"].as_f64().unwrap();
+        assert!(pen < 1e-3 * 0.5, "{n} blocks: penetration {pen} m");
+        // Centroid settlement of the top cube: penalty compression of every interface
+        // (load of the cubes above / 4 k_n) + elastic shortening of the cubes below (uniaxial,
+        // ν = 0) + the top cube's own shortening below its centroid (3/8 ρ g h² / E).
+        let mut expected = 0.0;
+        for k in 0..n {
+            let above = (n - k) as f64 * weight;
+            expected += above / (4.0 * kn);
+            if k + 1 < n {
+                expected += (above - weight) * h / e + rho * g * h * h / (2.0 * e);
+            }
+        }
+        expected += 3.0 / 8.0 * rho * g * h * h / e;
+        let top = format!("cube{}", n - 1);
+        let settled = -final_value(&out, &format!("{top}.displacement.z"));
+        assert!((settled - expected).abs() < 0.1 * expected, "{n} blocks: settled {settled} m, expected {expected} m");
+        for k in 0..n {
+            for c in ["x", "y"] {
+                let drift = final_value(&out, &format!("cube{k}.displacement.{c}")).abs();
+                assert!(drift < 1e-4, "{n} blocks: cube {k} drifted {drift} m along {c}");
+            }
+        }
+    }
+}
+
+/// A 1 m cube (2500 kg) reaching a fixed base at the speed of a 1 m drop (g = 10), total normal
+/// stiffness 1e9 N/m over its four corners, Newmark γ = ½. Returns (contact time, penetration).
+fn drop_test() -> (f64, f64) {
+    let gap: f64 = 1e-3;
+    let v0 = (2.0 * 10.0 * (1.0 - gap)).sqrt();
+    let text = format!(
+        r#"
+[analysis]
+duration = 0.0062
+dt = 1.0e-5
+max_displacement_ratio = 0.05
+gravity = [0.0, 0.0, -10.0]
+output_interval = 0.0
+integrator = "newmark"
+
+[cover]
+pattern = "tet6"
+size = 0.5
+
+[contact]
+normal_stiffness = 2.5e8
+shear_stiffness = 2.5e8
+
+[[material]]
+name = "stiff"
+density = 2500.0
+young = 1.0e13
+poisson = 0.0
+
+[[body]]
+name = "base"
+material = "stiff"
+fixed = true
+shape = {{ box = {{ min = [-1.0, -1.0, -1.0], max = [1.0, 1.0, 0.0] }} }}
+
+[[body]]
+name = "cube"
+material = "stiff"
+velocity = [0.0, 0.0, {}]
+shape = {{ box = {{ min = [-0.5, -0.5, {gap}], max = [0.5, 0.5, {}] }} }}
+
+[[monitor]]
+name = "cube"
+select = {{ body = "cube" }}
+quantities = ["displacement"]
+"#,
+        -v0,
+        1.0 + gap
+    );
+    run_ok(&text, "drop_test");
+    let z = history("drop_test", "cube.displacement.z");
+    // In contact while the cube is below its touching level.
+    let inside: Vec<f64> = z.iter().filter(|(_, u)| *u < -gap).map(|(t, _)| *t).collect();
+    let (first, last) = (inside[0], *inside.last().unwrap());
+    let deepest = z.iter().map(|(_, u)| -u - gap).fold(0.0, f64::max);
+    (last - first, deepest)
+}
+
+/// The exact piecewise-linear ODE: p'' = g − (k/m) p from p = 0, p' = v.
+fn drop_exact() -> (f64, f64) {
+    let (g, k, m, v) = (10.0f64, 1e9f64, 2500.0f64, (2.0f64 * 10.0).sqrt());
+    let w = (k / m).sqrt();
+    let r = ((g / (w * w)).powi(2) + (v / w).powi(2)).sqrt();
+    let delta = (g / (w * w) / r).asin();
+    ((std::f64::consts::PI + 2.0 * delta) / w, g / (w * w) + r)
+}
+
+#[test]
+fn drop_test_contact_time_and_penetration_match_the_exact_impact() {
+    let (t_exact, p_exact) = drop_exact();
+    assert!((t_exact - 4.978e-3).abs() < 1e-6 && (p_exact - 7.096e-3).abs() < 1e-6);
+    let (t, p) = drop_test();
+    assert!((t - t_exact).abs() < 0.05 * t_exact, "contact time {t} s, exact {t_exact} s");
+    assert!((p - p_exact).abs() < 0.05 * p_exact, "penetration {p} m, exact {p_exact} m");
+}
+
+#[test]
+fn two_block_collision_conserves_momentum() {
+    for integrator in ["dda", "newmark"] {
+        let text = format!(
+            r#"
+[analysis]
+duration = 0.02
+dt = 1.0e-4
+max_displacement_ratio = 0.05
+gravity = [0.0, 0.0, 0.0]
+output_interval = 0.0
+integrator = "{integrator}"
+
+[cover]
+pattern = "tet6"
+size = 0.5
+
+[[material]]
+name = "rock"
+density = 2500.0
+young = 10.0e9
+poisson = 0.25
+
+[[body]]
+name = "moving"
+material = "rock"
+velocity = [2.0, 0.0, 0.0]
+shape = {{ box = {{ min = [-1.001, 0.0, 0.0], max = [-0.001, 1.0, 1.0] }} }}
+
+[[body]]
+name = "resting"
+material = "rock"
+shape = {{ box = {{ min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0] }} }}
+"#
+        );
+        let sys = System::build(scenario(&text), "<test>").unwrap_or_else(|e| panic!("{e}"));
+        let mut state = State::initial(&sys);
+        let mut stepper = Stepper::new(&sys, &state, "<test>").unwrap_or_else(|e| panic!("{e}"));
+        stepper.initialize(&sys, &mut state).unwrap();
+        let p0 = sys.momentum(&state.v);
+        assert!((p0.x - 5000.0).abs() < 1e-6, "{integrator}: initial momentum {p0}");
+        let mut touched = false;
+        while state.time < 0.02 {
+            let cap = 0.02 - state.time;
+            let r = stepper.step(&sys, &mut state, cap).unwrap_or_else(|e| panic!("{e}"));
+            touched |= r.contacts > 0 && r.max_penetration > 0.0;
+        }
+        assert!(touched, "{integrator}: the blocks never touched");
+        let p = sys.momentum(&state.v);
+        assert!((p - p0).norm() < 1e-9 * p0.norm(), "{integrator}: momentum {p} vs {p0}");
+        // The struck block moves off: momentum really was exchanged.
+        let b1: Vec<usize> = (0..sys.covers.covers.len()).filter(|&c| sys.covers.covers[c].block == 1).collect();
+        let v1 = b1.iter().map(|&c| state.v[c].x).sum::<f64>() / b1.len() as f64;
+        assert!(v1 > 1.0, "{integrator}: struck block moves at {v1} m/s");
+    }
+}
+
+#[test]
+fn blocks_overlapping_at_the_start_are_invalid_input_naming_both() {
+    let text = cube_case(
+        "duration = 0.1\ndt = 0.01",
+        "friction_angle = 30.0",
+        r#"
+[[body]]
+name = "left"
+material = "rock"
+shape = { box = { min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0] } }
+
+[[body]]
+name = "right"
+material = "rock"
+shape = { box = { min = [0.9, 0.0, 0.0], max = [1.9, 1.0, 1.0] } }
+"#,
+    );
+    let sys = System::build(scenario(&text), "case.toml").unwrap();
+    let state = State::initial(&sys);
+    match Stepper::new(&sys, &state, "case.toml") {
+        Err(e @ Error::Scenario { .. }) => {
+            let m = e.to_string();
+            assert!(m.contains("case.toml") && m.contains("'left'") && m.contains("'right'") && m.contains("overlaps"), "{m}");
+            assert_eq!(e.exit_code(), 2);
+        }
+        Err(e) => panic!("wrong error: {e}"),
+        Ok(_) => panic!("overlapping blocks accepted"),
+    }
+}
