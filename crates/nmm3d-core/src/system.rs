@@ -191,7 +191,7 @@ impl System {
 }
 
 /// The sparsity pattern of the MEs' cover cliques plus `extra` cliques (contacts), its scatter
-/// maps, and the consistent mass assembled on it.
+/// maps (extra clique k at index n_elements + k), and the consistent mass assembled on it.
 pub fn pattern_and_mass(
     covers: &Covers,
     dofs: &DofMap,
@@ -202,7 +202,9 @@ pub fn pattern_and_mass(
     let cliques: Vec<&[usize]> = covers.elements.iter().map(|e| e.covers.as_slice()).collect();
     let masters: Vec<Vec<usize>> = cliques.iter().copied().chain(extra.iter().map(|c| c.as_slice())).map(|c| masters_of(dofs, c).0).collect();
     let pattern = SparsityPattern::from_cliques(dofs, covers.covers.len(), masters.iter().map(|c| c.as_slice()));
-    let assembler = Assembler::new(pattern, dofs, &cliques);
+    // Scatter maps for the MEs and, after them, for the extra cliques.
+    let all: Vec<&[usize]> = cliques.iter().copied().chain(extra.iter().map(|c| c.as_slice())).collect();
+    let assembler = Assembler::new(pattern, dofs, &all);
     let mut mass = vec![0.0; assembler.pattern.nnz()];
     for (e, me) in covers.elements.iter().enumerate() {
         assembler.add(&mut mass, e, &expand_mass(&kernels[kernel_of[e]].mass, me.covers.len()));

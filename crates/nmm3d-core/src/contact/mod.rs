@@ -79,8 +79,12 @@ pub struct ContactRecord {
     pub b: MaterialPoint,
     /// Unit normal from B to A.
     pub normal: Vec3,
-    /// Gap at the start of the step [m] (negative: penetration).
+    /// Gap at the start of the step [m] (negative: penetration), measured from `offset`.
     pub gap0: f64,
+    /// Geometric gap taken as zero [m]: the gap or overlap of a point touching at the start, so
+    /// that input overlapping or apart within the tolerance (coordinates rounded to a few digits)
+    /// gives no impulsive force and no fall; carried to the point's successors.
+    pub offset: f64,
     /// State.
     pub state: ContactState,
     /// Shear-spring extension at the start of the step (tangential) [m].
@@ -103,6 +107,12 @@ pub struct ContactRecord {
     pub rel: Vec3,
     /// Force on A after the last solve [N].
     pub force: Vec3,
+    /// Times the point closed in this step's open–close iterations.
+    pub reclosed: u32,
+    /// The point opened in this step's open–close iterations.
+    pub opened: bool,
+    /// Friction limit tan φ N + c applied while sliding [N].
+    pub limit: f64,
 }
 
 /// Strength of a contact point: tan φ, and the bond (cohesion and tensile forces) it still has.
@@ -223,6 +233,7 @@ impl ContactSet {
                     b,
                     normal,
                     gap0: q.gap,
+                    offset: 0.0,
                     state: if touching { ContactState::Stick } else { ContactState::Open },
                     shear0: Vec3::zeros(),
                     slip: Vec3::zeros(),
@@ -238,12 +249,24 @@ impl ContactSet {
                     gap: q.gap,
                     rel: Vec3::zeros(),
                     force: Vec3::zeros(),
+                    reclosed: 0,
+                    opened: false,
+                    limit: 0.0,
                 };
-                if let Some(old) = nearest(&previous, by_pair.get(&r.blocks), &r.a.reference, 10.0 * p.tolerance) {
+                if initial && touching {
+                    r.offset = q.gap;
+                }
+                let nearest_old = nearest(&previous, by_pair.get(&r.blocks), &r.a.reference, f64::INFINITY);
+                if let Some(old) = nearest_old {
+                    r.offset = old.offset;
+                }
+                (r.gap0, r.gap) = (q.gap - r.offset, q.gap - r.offset);
+                if let Some(old) = nearest_old.filter(|o| (o.a.reference - r.a.reference).norm() < 10.0 * p.tolerance) {
                     if old.state != ContactState::Open {
                         // Still closed unless the springs would pull harder than the bond holds.
                         let pull = r.kn * r.gap0 - r.normal.dot(&old.preload);
-                        r.state = if self.locked || pull < old.strength.tension { old.state } else { ContactState::Open };
+                        let band = GAP_BAND * p.size * r.kn;
+                        r.state = if self.locked || pull <= old.strength.tension + band { old.state } else { ContactState::Open };
                         let t = tangential(&r.normal);
                         r.shear0 = t * old.shear0;
                         r.slip = old.slip;
@@ -255,7 +278,7 @@ impl ContactSet {
                             r.rel = old.rel;
                         }
                     }
-                } else if let Some(old) = nearest(&previous, by_pair.get(&r.blocks), &r.a.reference, f64::INFINITY) {
+                } else if let Some(old) = nearest_old {
                     // A new point of a pair already sliding (its points move on with the
                     // slip) slides too, at the Coulomb limit, instead of braking as a fresh
                     // stuck spring for one iteration.
@@ -266,6 +289,7 @@ impl ContactSet {
                         r.shear0 = r.slip * (tan_phi * (-r.kn * r.gap0).max(0.0) / r.ks);
                     }
                 }
+                r.limit = r.strength.tan_phi * (r.normal.dot(&r.preload) - r.kn * r.gap0).max(0.0) + r.strength.cohesion;
                 self.records.push(r);
             }
         }
@@ -274,60 +298,43 @@ impl ContactSet {
 
     /// Points overlapping deeper than `depth` [m].
     pub fn overlaps(&self, depth: f64) -> impl Iterator<Item = &ContactRecord> {
-        self.records.iter().filter(move |r| r.gap0 < -depth)
+        self.records.iter().filter(move |r| r.gap0 + r.offset < -depth)
     }
 
-/// Covers coupled by each contact (A's ME then B's ME).
-    pub fn cliques(&self, sys: &System) -> Vec<Vec<usize>> {
-        self.records.iter().map(|r| pair_clique(sys, r.a.element, r.b.element)).collect()
-    }
-
-    /// Local matrix (row-major, (3m)²) and force vector (3m) of record `k` in its clique order.
-    pub fn local(&self, sys: &System, k: usize) -> (Vec<f64>, Vec<f64>) {
-        let r = &self.records[k];
-        let (na, nb) = (sys.covers.elements[r.a.element].covers.len(), sys.covers.elements[r.b.element].covers.len());
-        let m = na + nb;
-        let w: Vec<f64> = r.a.weights.iter().copied().chain(r.b.weights.iter().map(|x| -x)).collect();
-        let mut mat = vec![0.0; 9 * m * m];
-        let mut f = vec![0.0; 3 * m];
-        if r.state == ContactState::Open {
-            return (mat, f);
-        }
-        let (kn, ks) = (r.kn, r.ks);
-        let n = r.normal;
-        let t = tangential(&n);
-        let mut block = kn * n * n.transpose();
-        // Force on A (B gets the opposite through the negative weights).
-        let mut force = -kn * r.gap0 * n;
-        match r.state {
-            ContactState::Stick => {
-                block += ks * t;
-                force += r.preload - ks * r.shear0;
+    /// The springs of every closed point, summed per pair of MEs: for each ME pair (lower
+    /// index first) its local matrix over the pair's cover clique (row-major, (3m)²); the
+    /// constant forces go straight to `force` per cover.
+    pub fn assemble(&self, sys: &System, force: &mut [Vec3]) -> FxHashMap<(usize, usize), Vec<f64>> {
+        let mut blocks: FxHashMap<(usize, usize), Vec<f64>> = FxHashMap::default();
+        for r in self.records.iter().filter(|r| r.state != ContactState::Open) {
+            let (block, f) = r.spring();
+            let (ea, eb) = (r.a.element, r.b.element);
+            let (ca, cb) = (&sys.covers.elements[ea].covers, &sys.covers.elements[eb].covers);
+            // Weights in the clique order of the pair (lower ME first); B's negative.
+            let wa = r.a.weights.iter().copied();
+            let wb = r.b.weights.iter().map(|x| -x);
+            let (w, clique): (Vec<f64>, Vec<usize>) = if ea < eb {
+                (wa.chain(wb).collect(), ca.iter().chain(cb).copied().collect())
+            } else {
+                (wb.chain(wa).collect(), cb.iter().chain(ca).copied().collect())
+            };
+            for (&c, wc) in clique.iter().zip(&w) {
+                force[c] += *wc * f;
             }
-            ContactState::Slide => {
-                // Friction linearised about the last iterate (return mapping, consistent
-                // tangent; Wriggers, Computational Contact Mechanics §5.2): the force keeps
-                // the Coulomb magnitude and turns with the trial direction, so sideways motion
-                // of a sliding point meets stiffness instead of a fixed-direction force.
-                let (f_k, k_t) = r.friction();
-                block += k_t;
-                force += n * n.dot(&r.preload) + f_k + k_t * r.rel;
-            }
-            ContactState::Open => {}
-        }
-        for a in 0..m {
-            for i in 0..3 {
-                f[3 * a + i] = w[a] * force[i];
-            }
-            for b in 0..m {
-                for i in 0..3 {
-                    for j in 0..3 {
-                        mat[(3 * a + i) * 3 * m + 3 * b + j] = w[a] * w[b] * block[(i, j)];
+            let m = w.len();
+            let mat = blocks.entry((ea.min(eb), ea.max(eb))).or_insert_with(|| vec![0.0; 9 * m * m]);
+            for a in 0..m {
+                for b in 0..m {
+                    let s = w[a] * w[b];
+                    for i in 0..3 {
+                        for j in 0..3 {
+                            mat[(3 * a + i) * 3 * m + 3 * b + j] += s * block[(i, j)];
+                        }
                     }
                 }
             }
         }
-        (mat, f)
+        blocks
     }
 
     /// Add each point's force at the start of the step (springs at the start gaps and
@@ -355,6 +362,8 @@ impl ContactSet {
     /// Update every point from the solved increments `d`; returns how many changed state.
     pub fn update_states(&mut self, sys: &System, d: &[Vec3]) -> usize {
         let locked = self.locked;
+        let band = GAP_BAND * self.params.size;
+        let reclose = RECLOSE_DEPTH * self.params.tolerance;
         let mut changed = 0;
         // Largest change of a sliding point's friction force, and the largest friction limit.
         let (mut turned, mut largest) = (0.0f64, 0.0f64);
@@ -382,18 +391,42 @@ impl ContactSet {
             let limit = s.tan_phi * normal.max(0.0) + s.cohesion;
             let closing = r.state == ContactState::Open;
             let new = match r.state {
-                ContactState::Open if r.gap > 0.0 => ContactState::Open,
+                // A point that has closed twice in this step's iterations stays open: it sits
+                // where the pressure changes sign and would flip for ever; left open it may
+                // overlap by that flip's round-off until the next step.
+                // Hysteresis of ±band around zero gap: a point at zero force (the side faces of
+                // neighbouring blocks) must not flip with round-off.
+                ContactState::Open if r.gap > -band || r.reclosed >= MAX_RECLOSE => ContactState::Open,
+                // A point that opened in this step's iterations closes again only once it
+                // overlaps by the re-closing depth: small overlaps there are rocking within
+                // the iteration, not contact, and chasing them does not converge.
+                ContactState::Open if r.opened && r.gap > -reclose => ContactState::Open,
                 _ if locked => ContactState::Stick,
-                _ if !closing && normal < -s.tension => ContactState::Open,
+                _ if !closing && normal < -s.tension - kn * band => ContactState::Open,
                 // A closing point sticks or slides by the same Coulomb test (a point entering
                 // while the blocks slip slides at once instead of braking for an iteration).
-                _ if held.norm() > limit => ContactState::Slide,
+                // The same hysteresis on the cone: a stuck point slides once the trial exceeds
+                // the limit by the band's spring force.
+                // A sliding point whose slip would reverse sticks (DDA's rule; the direction of
+                // a point barely slipping is noise and would flip between iterations).
+                ContactState::Slide if held.dot(&r.slip) > 0.0 => ContactState::Stick,
+                ContactState::Slide if held.norm() > limit => ContactState::Slide,
+                _ if held.norm() > limit + ks * band => ContactState::Slide,
                 _ => ContactState::Stick,
             };
             if new == ContactState::Slide && held.norm() > 0.0 {
                 // A slips against the force that would hold it.
                 largest = largest.max(limit);
                 r.slip = -held.normalize();
+                // The friction magnitude follows the normal force of the last solve — unless
+                // the point was open in it: its overlap there had no spring to stop it, and
+                // friction from it would be fictitious (and feed back until the iteration
+                // diverges where many points close at once). It starts frictionless and takes
+                // its real normal force at the next iteration.
+                r.limit = if closing { 0.0 } else { limit };
+                if let Some(u) = used {
+                    turned = turned.max((-limit * r.slip - u).norm());
+                }
             }
             if new != r.state {
                 changed += 1;
@@ -403,18 +436,18 @@ impl ContactSet {
                 if new == ContactState::Open {
                     r.preload = Vec3::zeros();
                 }
+                if closing {
+                    r.reclosed += 1;
+                }
+                if new == ContactState::Open {
+                    r.opened = true;
+                }
                 r.state = new;
             }
             r.force = match r.state {
                 ContactState::Open => Vec3::zeros(),
                 ContactState::Stick => r.preload - kn * r.gap * n - ks * shear,
-                ContactState::Slide => {
-                    let f = r.friction().0;
-                    if let Some(u) = used {
-                        turned = turned.max((f - u).norm());
-                    }
-                    n * n.dot(&r.preload) - kn * r.gap * n + f
-                }
+                ContactState::Slide => n * n.dot(&r.preload) - kn * r.gap * n + r.friction().0,
             };
         }
         // The friction was linearised about the last iterate (its magnitude from the last
@@ -435,7 +468,7 @@ impl ContactSet {
             let t = tangential(&r.normal);
             r.shear0 = match r.state {
                 ContactState::Stick => r.shear0 + t * r.rel,
-                ContactState::Slide => (t * r.preload + (r.strength.tan_phi * r.normal_force() + r.strength.cohesion) * r.slip) / r.ks,
+                ContactState::Slide => (t * r.preload + r.limit * r.slip) / r.ks,
                 ContactState::Open => Vec3::zeros(),
             };
         }
@@ -447,14 +480,26 @@ impl ContactSet {
     }
 }
 
+/// Half-width of the open–close hysteresis as a fraction of the cover size (far below
+/// elastic contact deformations, far above the round-off of gaps).
+const GAP_BAND: f64 = 1e-10;
+
+/// Overlap, as a fraction of the support tolerance, at which a point that opened during the
+/// step's iterations closes again.
+const RECLOSE_DEPTH: f64 = 1e-3;
+
+/// Closings of a point within one step's open–close iterations after which it stays open.
+const MAX_RECLOSE: u32 = 2;
+
 /// Largest change of a sliding point's friction force between two open–close iterations,
 /// relative to the largest friction limit, that counts as converged (about a 1° turn, or a
 /// 1.7 % change, of the largest).
 const SLIP_TURN: f64 = 0.017_45;
 
 /// A new point whose gap is below this fraction of the support tolerance is touching (closed):
-/// round-off must not turn blocks placed on each other into a fall and an impact.
-const TOUCHING: f64 = 1e-6;
+/// coordinates given to a few digits must not turn blocks placed on each other into a fall and
+/// an impact. At the start such a point's gap becomes its zero level (`offset`).
+const TOUCHING: f64 = 1e-3;
 
 /// The covers of two MEs, first then second (the clique a contact between them couples).
 pub fn pair_clique(sys: &System, a: usize, b: usize) -> Vec<usize> {
@@ -553,7 +598,7 @@ pub fn overlap_problems(sys: &System, set: &ContactSet, depth: f64) -> Vec<Probl
                 path: format!("body.{}", name(r.blocks.0)),
                 reason: format!(
                     "block {} of body '{}' overlaps block {} of body '{}' by {:.3e} m at ({:.4}, {:.4}, {:.4}) (allowed {:.1e} m)",
-                    r.blocks.0, name(r.blocks.0), r.blocks.1, name(r.blocks.1), -r.gap0, x.x, x.y, x.z, depth
+                    r.blocks.0, name(r.blocks.0), r.blocks.1, name(r.blocks.1), -(r.gap0 + r.offset), x.x, x.y, x.z, depth
                 ),
             }
         })
@@ -561,14 +606,41 @@ pub fn overlap_problems(sys: &System, set: &ContactSet, depth: f64) -> Vec<Probl
 }
 
 impl ContactRecord {
+    /// The point's spring in its current state, linearised: stiffness (3 × 3) and the constant
+    /// force on A (B takes the opposite).
+    pub fn spring(&self) -> (Mat3, Vec3) {
+        let (kn, ks) = (self.kn, self.ks);
+        let n = self.normal;
+        let t = tangential(&n);
+        let mut block = kn * n * n.transpose();
+        let mut force = -kn * self.gap0 * n;
+        match self.state {
+            ContactState::Stick => {
+                block += ks * t;
+                force += self.preload - ks * self.shear0;
+            }
+            ContactState::Slide => {
+                // Friction linearised about the last iterate (return mapping, consistent
+                // tangent; Wriggers, Computational Contact Mechanics §5.2): the force keeps
+                // the Coulomb magnitude and turns with the trial direction, so sideways motion
+                // of a sliding point meets stiffness instead of a fixed-direction force.
+                let (f_k, k_t) = self.friction();
+                block += k_t;
+                force += n * n.dot(&self.preload) + f_k + k_t * self.rel;
+            }
+            ContactState::Open => return (Mat3::zeros(), Vec3::zeros()),
+        }
+        (block, force)
+    }
+
     /// Sliding friction on A at the last iterate and its tangent: f = L ĥ with ĥ the direction of
-    /// the elastic trial force h = t·P − k_s (s₀ + t·rel) and L = tan φ N + c; df/d(rel) = −K,
-    /// K = k_s min(L/|h|, 1) (t − ĥ ĥᵀ).
+    /// the elastic trial force h = t·P − k_s (s₀ + t·rel) and L the friction limit (`limit`);
+    /// df/d(rel) = −K, K = k_s min(L/|h|, 1) (t − ĥ ĥᵀ).
     pub fn friction(&self) -> (Vec3, Mat3) {
         let ks = self.ks;
         let t = tangential(&self.normal);
         let h = t * self.preload - ks * (self.shear0 + t * self.rel);
-        let limit = self.strength.tan_phi * self.normal_force() + self.strength.cohesion;
+        let limit = self.limit;
         if h.norm() <= f64::EPSILON * (limit + ks * self.shear0.norm()) {
             return (-limit * self.slip, Mat3::zeros());
         }

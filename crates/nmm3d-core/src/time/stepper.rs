@@ -8,6 +8,8 @@
 use std::collections::BTreeSet;
 use std::time::Instant;
 
+use rustc_hash::FxHashMap;
+
 use nmm3d_geom::Vec3;
 
 use super::corotation;
@@ -60,6 +62,8 @@ pub struct Stepper {
     mass_values: Vec<f64>,
     contacts: Option<ContactSet>,
     contact_pairs: BTreeSet<(usize, usize)>,
+    /// Index of each ME pair among the pattern's extra cliques.
+    contact_slots: FxHashMap<(usize, usize), usize>,
     newmark: Newmark,
     tangent: Vec<f64>,
     values: Vec<f64>,
@@ -89,6 +93,7 @@ impl Stepper {
             mass_values: sys.mass_values.clone(),
             contacts,
             contact_pairs: BTreeSet::new(),
+            contact_slots: FxHashMap::default(),
             newmark: Newmark::from_analysis(&sys.scenario.analysis),
             tangent: vec![0.0; nnz],
             values: vec![0.0; nnz],
@@ -254,6 +259,7 @@ impl Stepper {
             return;
         }
         self.contact_pairs.extend(pairs);
+        self.contact_slots = self.contact_pairs.iter().enumerate().map(|(k, &p)| (p, k)).collect();
         let extra: Vec<Vec<usize>> = self.contact_pairs.iter().map(|&(a, b)| pair_clique(sys, a, b)).collect();
         (self.assembler, self.mass_values) = pattern_and_mass(&sys.covers, &sys.dofs, &sys.kernels, &sys.kernel_of, &extra);
         let nnz = self.assembler.pattern.nnz();
@@ -270,12 +276,9 @@ impl Stepper {
         }
         let mut contact_force = vec![Vec3::zeros(); residual.len()];
         if let Some(c) = self.contacts.as_ref() {
-            for (k, clique) in c.cliques(sys).iter().enumerate() {
-                let (mat, f) = c.local(sys, k);
-                self.assembler.add_general(&mut self.values, &sys.dofs, clique, &mat);
-                for (a, &cv) in clique.iter().enumerate() {
-                    contact_force[cv] += Vec3::new(f[3 * a], f[3 * a + 1], f[3 * a + 2]);
-                }
+            let n_elements = sys.covers.elements.len();
+            for (pair, mat) in c.assemble(sys, &mut contact_force) {
+                self.assembler.add(&mut self.values, n_elements + self.contact_slots[&pair], &mat);
             }
         }
         self.solver
