@@ -44,3 +44,40 @@ def test_frames_are_polyhedra_with_fields(cube, tmp_path):
     assert stress.shape == (last.GetNumberOfCells(), 6)
     assert np.abs(stress).max() < 1.0
     assert set(vtk_to_numpy(last.GetCellData().GetArray("block_id")).tolist()) == {0}
+
+
+def test_contact_frames_hold_points_forces_and_states(tmp_path):
+    """A cube resting on a fixed slab: the contact frame's normal forces carry its weight."""
+    scenario = {
+        "analysis": {"kind": "static", "duration": 1.0e3, "dt": 0.01, "max_steps": 50, "gravity": [0.0, 0.0, -10.0],
+                     "output_interval": 0.0},
+        "cover": {"pattern": "tet6", "size": 0.5},
+        "material": [{"name": "rock", "density": 2500.0, "young": 1.0e10, "poisson": 0.0}],
+        "joint": [{"name": "j", "friction_angle": 30.0}],
+        "body": [
+            {"name": "base", "material": "rock", "fixed": True, "shape": {"box": {"min": [-2, -2, -1], "max": [2, 2, 0]}}},
+            {"name": "cube", "material": "rock", "joint": "j", "shape": {"box": {"min": [-0.5, -0.5, 0], "max": [0.5, 0.5, 1]}}},
+        ],
+    }
+    result = nmm3d.Scenario.from_dict(scenario).run(out=tmp_path / "run")
+    assert result.completed, result.summary["message"]
+    pvd = ET.parse(tmp_path / "run" / "result.pvd").getroot()
+    parts = [d for d in pvd.findall("./Collection/DataSet") if d.get("part") == "1"]
+    assert len(parts) == 2  # first and last frame
+    grid = read_vtu(tmp_path / "run" / parts[-1].get("file"))
+    n = grid.GetNumberOfPoints()
+    assert n == grid.GetNumberOfCells() >= 4
+    assert {grid.GetCellType(i) for i in range(n)} == {vtk.VTK_VERTEX}
+    data = grid.GetPointData()
+    normal = vtk_to_numpy(data.GetArray("normal"))
+    np.testing.assert_allclose(normal, np.tile([0.0, 0.0, 1.0], (n, 1)), atol=1e-12)
+    # Σ normal forces on the cube = its weight (static equilibrium); the shear forces are local
+    # (the elastic faces' in-plane strain held by friction) and balance each other.
+    weight = 2500.0 * 10.0
+    assert vtk_to_numpy(data.GetArray("normal_force")).sum() == pytest.approx(weight, rel=1e-5)
+    shear = vtk_to_numpy(data.GetArray("shear_force"))
+    assert np.abs(shear.sum(axis=0)).max() < 1e-5 * weight
+    assert np.abs(shear).max() < 0.01 * weight
+    assert set(vtk_to_numpy(data.GetArray("state")).tolist()) == {1}  # stick
+    assert vtk_to_numpy(data.GetArray("area")).sum() == pytest.approx(1.0, rel=1e-6)  # on the deformed faces
+    assert set(vtk_to_numpy(data.GetArray("block_a")).tolist()) == {1}

@@ -8,6 +8,7 @@ use std::time::Instant;
 
 use serde_json::{json, Map, Value};
 
+use crate::contact::ContactSet;
 use crate::error::{Error, Result};
 use crate::monitor::MonitorPlan;
 use crate::output::{atomic, tables, vtu};
@@ -53,7 +54,7 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
         if sys.scenario.analysis.initial_equilibrium {
             settled = Some(stepper.settle(&sys, &mut state)?);
         }
-        rec.record(&sys, &state, true)?;
+        rec.record(&sys, &state, stepper.contacts(), true)?;
         advance(&sys, &mut state, &mut stepper, &mut rec, progress)
     });
     if progress {
@@ -64,7 +65,7 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
         Err(e @ (Error::Diverged { .. } | Error::Solver { .. })) => (false, e.to_string()),
         Err(e) => return Err(e),
     };
-    rec.finish(&sys, &state)?;
+    rec.finish(&sys, &state, stepper.contacts())?;
     let mut summary = summary(&sys, &state, &stepper, &rec, completed, &message, t_start.elapsed().as_secs_f64());
     if let (Some((steps, unbalanced)), Some(map)) = (settled, summary.as_object_mut()) {
         let _ = map.insert("initial_equilibrium".into(), json!({"steps": steps, "unbalanced_force_ratio": unbalanced}));
@@ -100,7 +101,7 @@ fn advance(sys: &System, state: &mut State, stepper: &mut Stepper, rec: &mut Rec
         if state.u.iter().any(|x| !x.iter().all(|c| c.is_finite())) {
             return Err(Error::Diverged { step: state.step, time: state.time, reason: "a displacement is not finite".into() });
         }
-        rec.record(sys, state, false)?;
+        rec.record(sys, state, stepper.contacts(), false)?;
         if progress && last_print.elapsed().as_secs_f64() > 0.5 {
             eprint!("\r  step {:>8}  t = {:<12.6} dt = {:.3e}   ", state.step, state.time, report.dt);
             let _ = std::io::stderr().flush();
@@ -117,7 +118,7 @@ struct Recorder {
     monitors: Vec<MonitorPlan>,
     history: tables::History,
     diagnostics: Vec<(f64, u64, crate::time::StepReport)>,
-    frames: Vec<(f64, String)>,
+    frames: Vec<(f64, String, Option<String>)>,
     out: PathBuf,
     next_history: f64,
     next_frame: f64,
@@ -157,7 +158,7 @@ impl Recorder {
         }
     }
 
-    fn record(&mut self, sys: &System, state: &State, first: bool) -> Result<()> {
+    fn record(&mut self, sys: &System, state: &State, contacts: Option<&ContactSet>, first: bool) -> Result<()> {
         let t = Instant::now();
         let a = &sys.scenario.analysis;
         let eps = 1e-9 * a.dt;
@@ -169,7 +170,7 @@ impl Recorder {
             }
         }
         if first || (a.output_interval > 0.0 && state.time + eps >= self.next_frame) {
-            self.frame(sys, state)?;
+            self.frame(sys, state, contacts)?;
             if a.output_interval > 0.0 {
                 self.next_frame = (state.time / a.output_interval + 1e-9).floor() * a.output_interval + a.output_interval;
             }
@@ -181,18 +182,27 @@ impl Recorder {
         Ok(())
     }
 
-    fn frame(&mut self, sys: &System, state: &State) -> Result<()> {
-        let name = format!("frames/blocks_{:05}.vtu", self.frames.len());
+    fn frame(&mut self, sys: &System, state: &State, contacts: Option<&ContactSet>) -> Result<()> {
+        let k = self.frames.len();
+        let name = format!("frames/blocks_{k:05}.vtu");
         vtu::write_frame(sys, state, &self.out.join(&name))?;
-        self.frames.push((state.time, name));
+        let contact_name = match contacts {
+            Some(c) => {
+                let name = format!("frames/contacts_{k:05}.vtu");
+                vtu::write_contacts(sys, state, &c.records, &self.out.join(&name))?;
+                Some(name)
+            }
+            None => None,
+        };
+        self.frames.push((state.time, name, contact_name));
         self.last_frame_step = Some(state.step);
         vtu::write_pvd(&self.out.join("result.pvd"), &self.frames)?;
         self.history.write(&self.out)
     }
 
-    fn finish(&mut self, sys: &System, state: &State) -> Result<()> {
+    fn finish(&mut self, sys: &System, state: &State, contacts: Option<&ContactSet>) -> Result<()> {
         if self.last_frame_step != Some(state.step) {
-            self.frame(sys, state)?;
+            self.frame(sys, state, contacts)?;
         }
         tables::write_diagnostics(&self.out, &self.diagnostics)?;
         self.history.write(&self.out)

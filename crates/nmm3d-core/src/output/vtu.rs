@@ -3,7 +3,9 @@
 //! `.pvd` collection. Arrays are raw little-endian binary in the `AppendedData` section (each
 //! block preceded by its UInt64 byte count), which VTK and ParaView read directly. Frame point
 //! data: displacement, velocity; cell data: block id, ME id, stress (xx, yy, zz, xy, yz, zx;
-//! compression negative).
+//! compression negative). Contact frames hold one vertex per contact point with its normal
+//! (from B to A), normal force (compression positive), shear force (vector), state (0 open,
+//! 1 stick, 2 slide), gap, area, mode (0 vertex of A, 1 vertex of B, 2 edge–edge) and blocks.
 
 use rustc_hash::FxHashMap;
 use std::fmt::Write as _;
@@ -12,12 +14,15 @@ use std::path::Path;
 use nmm3d_geom::{ConvexPolyhedron, Vec3};
 
 use super::atomic;
+use crate::contact::ContactRecord;
 use crate::element::kernel::stress_components;
+use nmm3d_geom::contact::Mode;
 use crate::error::Result;
 use crate::state::State;
 use crate::system::System;
 use crate::time::corotation;
 
+const VTK_VERTEX: u8 = 1;
 const VTK_POLYHEDRON: u8 = 42;
 /// Vertices of one block closer than this fraction of the cover size are one point.
 const POINT_QUANTUM: f64 = 1e-9;
@@ -156,6 +161,49 @@ pub fn write_frame(sys: &System, state: &State, path: &Path) -> Result<()> {
     atomic::write(path, &cells.write(&mut bin, &field_data(state.time), &point_data, &cell_data))
 }
 
+/// Write the contact points of a frame (forces on A, the block of higher index).
+pub fn write_contacts(sys: &System, state: &State, records: &[ContactRecord], path: &Path) -> Result<()> {
+    let points: Vec<Vec3> = records.iter().map(|r| r.a.position(sys, state)).collect();
+    let normal: Vec<Vec3> = records.iter().map(|r| r.normal).collect();
+    let normal_force: Vec<f64> = records.iter().map(|r| r.normal.dot(&r.force)).collect();
+    let shear: Vec<Vec3> = records.iter().map(|r| r.force - r.normal * r.normal.dot(&r.force)).collect();
+    let code = |m: Mode| match m {
+        Mode::VertexOfA => 0,
+        Mode::VertexOfB => 1,
+        Mode::EdgeEdge => 2,
+    };
+    let mut bin = Appended::default();
+    let mut point_data = String::from("<PointData Scalars=\"state\" Vectors=\"normal\">\n");
+    bin.vec3(&mut point_data, "normal", &normal);
+    bin.f64(&mut point_data, "normal_force", 1, &normal_force);
+    bin.vec3(&mut point_data, "shear_force", &shear);
+    bin.i64(&mut point_data, "state", 1, &records.iter().map(|r| r.state.code()).collect::<Vec<_>>());
+    bin.f64(&mut point_data, "gap", 1, &records.iter().map(|r| r.gap).collect::<Vec<_>>());
+    bin.f64(&mut point_data, "area", 1, &records.iter().map(|r| r.area).collect::<Vec<_>>());
+    bin.i64(&mut point_data, "mode", 1, &records.iter().map(|r| code(r.mode)).collect::<Vec<_>>());
+    bin.i64(&mut point_data, "block_a", 1, &records.iter().map(|r| r.blocks.0 as i64).collect::<Vec<_>>());
+    bin.i64(&mut point_data, "block_b", 1, &records.iter().map(|r| r.blocks.1 as i64).collect::<Vec<_>>());
+    point_data.push_str("</PointData>\n");
+    let n = points.len();
+    let mut s = String::new();
+    s.push_str("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n");
+    let _ = writeln!(s, "<UnstructuredGrid>\n<FieldData>{}</FieldData>", field_data(state.time));
+    let _ = writeln!(s, "<Piece NumberOfPoints=\"{n}\" NumberOfCells=\"{n}\">");
+    s.push_str(&point_data);
+    s.push_str("<Points>\n");
+    bin.vec3(&mut s, "Points", &points);
+    s.push_str("</Points>\n<Cells>\n");
+    let ids: Vec<i32> = (0..n as i32).collect();
+    bin.i32(&mut s, "connectivity", &ids);
+    bin.i32(&mut s, "offsets", &(1..=n as i32).collect::<Vec<_>>());
+    bin.u8(&mut s, "types", &vec![VTK_VERTEX; n]);
+    s.push_str("</Cells>\n</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"raw\">\n_");
+    let mut out = s.into_bytes();
+    out.extend_from_slice(&bin.data);
+    out.extend_from_slice(b"\n</AppendedData>\n</VTKFile>\n");
+    atomic::write(path, &out)
+}
+
 /// Write the blocks (reference geometry) as polyhedral cells with `block_id`, `body_id`, `volume`.
 pub fn write_blocks(geometry: &crate::model::Geometry, path: &Path) -> Result<()> {
     let mut cells = Cells::default();
@@ -186,11 +234,15 @@ fn field_data(time: f64) -> String {
     )
 }
 
-/// Write the `.pvd` collection of (time, relative file) frames.
-pub fn write_pvd(path: &Path, frames: &[(f64, String)]) -> Result<()> {
+/// Write the `.pvd` collection of frames: (time, blocks file, contacts file) — part 0 the
+/// blocks, part 1 the contact points.
+pub fn write_pvd(path: &Path, frames: &[(f64, String, Option<String>)]) -> Result<()> {
     let mut s = String::from("<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n<Collection>\n");
-    for (t, f) in frames {
+    for (t, f, c) in frames {
         let _ = writeln!(s, "<DataSet timestep=\"{t}\" part=\"0\" file=\"{f}\"/>");
+        if let Some(c) = c {
+            let _ = writeln!(s, "<DataSet timestep=\"{t}\" part=\"1\" file=\"{c}\"/>");
+        }
     }
     s.push_str("</Collection>\n</VTKFile>\n");
     atomic::write(path, s.as_bytes())
