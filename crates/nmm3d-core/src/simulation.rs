@@ -234,6 +234,7 @@ fn summary(sys: &System, state: &State, stepper: &Stepper, rec: &Recorder, compl
         let _ = timings.insert("contact_warning".into(), json!(c.times.warning));
         let _ = timings.insert("contact_detection".into(), json!(c.times.detection));
         let _ = timings.insert("contact_open_close".into(), json!(stepper.times.open_close));
+        let _ = timings.insert("contact_pattern".into(), json!(stepper.times.pattern));
     }
     json!({
         "status": if completed { "completed" } else { "failed" },

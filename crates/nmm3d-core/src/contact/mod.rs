@@ -301,40 +301,50 @@ impl ContactSet {
         self.records.iter().filter(move |r| r.gap0 + r.offset < -depth)
     }
 
-    /// The springs of every closed point, summed per pair of MEs: for each ME pair (lower
-    /// index first) its local matrix over the pair's cover clique (row-major, (3m)²); the
-    /// constant forces go straight to `force` per cover.
-    pub fn assemble(&self, sys: &System, force: &mut [Vec3]) -> FxHashMap<(usize, usize), Vec<f64>> {
-        let mut blocks: FxHashMap<(usize, usize), Vec<f64>> = FxHashMap::default();
-        for r in self.records.iter().filter(|r| r.state != ContactState::Open) {
-            let (block, f) = r.spring();
-            let (ea, eb) = (r.a.element, r.b.element);
-            let (ca, cb) = (&sys.covers.elements[ea].covers, &sys.covers.elements[eb].covers);
-            // Weights in the clique order of the pair (lower ME first); B's negative.
-            let wa = r.a.weights.iter().copied();
-            let wb = r.b.weights.iter().map(|x| -x);
-            let (w, clique): (Vec<f64>, Vec<usize>) = if ea < eb {
-                (wa.chain(wb).collect(), ca.iter().chain(cb).copied().collect())
-            } else {
-                (wb.chain(wa).collect(), cb.iter().chain(ca).copied().collect())
-            };
-            for (&c, wc) in clique.iter().zip(&w) {
-                force[c] += *wc * f;
-            }
-            let m = w.len();
-            let mat = blocks.entry((ea.min(eb), ea.max(eb))).or_insert_with(|| vec![0.0; 9 * m * m]);
-            for a in 0..m {
-                for b in 0..m {
-                    let s = w[a] * w[b];
-                    for i in 0..3 {
-                        for j in 0..3 {
-                            mat[(3 * a + i) * 3 * m + 3 * b + j] += s * block[(i, j)];
+    /// The springs of every closed point, summed per pair of MEs: `scatter` receives each ME
+    /// pair (lower index first) and its local matrix over the pair's cover clique (row-major,
+    /// (3m)²; one buffer reused); the constant forces go straight to `force` per cover.
+    pub fn assemble(&self, sys: &System, force: &mut [Vec3], mut scatter: impl FnMut((usize, usize), &[f64])) {
+        let pair = |r: &ContactRecord| (r.a.element.min(r.b.element), r.a.element.max(r.b.element));
+        let mut order: Vec<usize> = (0..self.records.len()).filter(|&k| self.records[k].state != ContactState::Open).collect();
+        order.sort_by_key(|&k| pair(&self.records[k]));
+        let mut mat: Vec<f64> = Vec::new();
+        let mut k = 0;
+        while k < order.len() {
+            let key = pair(&self.records[order[k]]);
+            let m = sys.covers.elements[key.0].covers.len() + sys.covers.elements[key.1].covers.len();
+            mat.clear();
+            mat.resize(9 * m * m, 0.0);
+            while k < order.len() && pair(&self.records[order[k]]) == key {
+                let r = &self.records[order[k]];
+                k += 1;
+                let (block, f) = r.spring();
+                let (ea, eb) = (r.a.element, r.b.element);
+                let (ca, cb) = (&sys.covers.elements[ea].covers, &sys.covers.elements[eb].covers);
+                // Weights in the clique order of the pair (lower ME first); B's negative.
+                let wa = r.a.weights.iter().copied();
+                let wb = r.b.weights.iter().map(|x| -x);
+                let (w, clique): (Vec<f64>, Vec<usize>) = if ea < eb {
+                    (wa.chain(wb).collect(), ca.iter().chain(cb).copied().collect())
+                } else {
+                    (wb.chain(wa).collect(), cb.iter().chain(ca).copied().collect())
+                };
+                for (&c, wc) in clique.iter().zip(&w) {
+                    force[c] += *wc * f;
+                }
+                for a in 0..m {
+                    for b in 0..m {
+                        let s = w[a] * w[b];
+                        for i in 0..3 {
+                            for j in 0..3 {
+                                mat[(3 * a + i) * 3 * m + 3 * b + j] += s * block[(i, j)];
+                            }
                         }
                     }
                 }
             }
+            scatter(key, &mat);
         }
-        blocks
     }
 
     /// Add each point's force at the start of the step (springs at the start gaps and

@@ -53,6 +53,8 @@ pub struct PhaseTimes {
     pub solve: f64,
     /// Open–close iterations beyond the first (their factorisations and solves included).
     pub open_close: f64,
+    /// Sparsity pattern rebuilds for new contacting ME pairs (with their symbolic analysis).
+    pub pattern: f64,
 }
 
 /// Orchestrates steps; owns the linear solver and work buffers.
@@ -135,12 +137,14 @@ impl Stepper {
 
     /// One accepted step (possibly after cuts). `dt_cap` bounds the step (output times, end).
     pub fn step(&mut self, sys: &System, state: &mut State, dt_cap: f64) -> Result<StepReport> {
-        let t = Instant::now();
         // Contacts first: a new contact may change the pattern the tangent is assembled into.
         if let Some(c) = self.contacts.as_mut() {
             c.detect(sys, state, false);
         }
+        let t = Instant::now();
         self.ensure_contact_pattern(sys);
+        self.times.pattern += t.elapsed().as_secs_f64();
+        let t = Instant::now();
         let residual = self.assemble(sys, state);
         let unbalanced = match self.contacts.as_ref() {
             Some(c) => {
@@ -277,9 +281,8 @@ impl Stepper {
         let mut contact_force = vec![Vec3::zeros(); residual.len()];
         if let Some(c) = self.contacts.as_ref() {
             let n_elements = sys.covers.elements.len();
-            for (pair, mat) in c.assemble(sys, &mut contact_force) {
-                self.assembler.add(&mut self.values, n_elements + self.contact_slots[&pair], &mat);
-            }
+            let (assembler, values, slots) = (&self.assembler, &mut self.values, &self.contact_slots);
+            c.assemble(sys, &mut contact_force, |pair, mat| assembler.add(values, n_elements + slots[&pair], mat));
         }
         self.solver
             .factorize(&self.assembler.pattern, &self.values)
