@@ -6,11 +6,14 @@ docs/verification.md, produced by bench/verification.py).
 
 from __future__ import annotations
 
+import math
+
 import pytest
 
 import nmm3d
 from conftest import EXAMPLES
 from nmm3d import analytic
+from nmm3d.wedge import wedge
 
 CASES = {
     "free_fall.toml": [],
@@ -25,6 +28,12 @@ CASES = {
     # runs end to end (the full runs take minutes).
     "tunnel_key_blocks.toml": ["analysis.duration=0.002"],
     "rock_slope.toml": ["analysis.duration=0.002"],
+    # Contact: short runs (the full ones are in docs/verification.md).
+    "incline.toml": ["analysis.duration=0.3"],
+    "roof_wedge.toml": ["analysis.duration=0.1"],
+    "drop_test.toml": [],
+    "tetrahedral_wedge.toml": ["analysis.duration=0.2"],
+    "block_tower.toml": ["analysis.max_steps=1000"],
 }
 
 
@@ -99,3 +108,32 @@ def test_rock_mass_examples_run(results):
     for name in ("tunnel_key_blocks.toml", "rock_slope.toml"):
         assert results[name].completed, results[name].summary["message"]
         assert results[name].summary["blocks"] > 20
+
+
+def test_incline_slides_as_the_closed_form(results):
+    u = [final(results, "incline.toml", f"cube.displacement.{c}") for c in "xyz"]
+    a = math.radians(30.0)
+    exact = 0.5 * 10.0 * (math.sin(a) - math.tan(math.radians(24.0)) * math.cos(a)) * 0.3**2
+    assert math.hypot(*u) == pytest.approx(exact, rel=0.02)
+
+
+def test_roof_wedge_settles_and_stays(results):
+    # W / (k ΣA): weight 11.547 kN, k = 10 MPa/m, three faces of 1.1547 m².
+    settle = 2000.0 * 10.0 * math.sqrt(3.0) / 3.0 / (10.0e6 * 3.0 * 2.0 / math.sqrt(3.0))
+    assert -final(results, "roof_wedge.toml", "wedge.displacement.z") == pytest.approx(settle, rel=0.05)
+
+
+def test_drop_test_penetration(results):
+    z = results["drop_test.toml"].history["cube.displacement.z"]
+    assert float(-z.min() - 1e-3) == pytest.approx(7.096e-3, rel=0.05)
+
+
+def test_tetrahedral_wedge_accelerates_as_the_vector_method(results):
+    u = [final(results, "tetrahedral_wedge.toml", f"wedge.displacement.{c}") for c in "xyz"]
+    ref = wedge((50.0, 130.0), (50.0, 230.0), 20.0, g=9.81)
+    assert 2.0 * math.hypot(*u) / 0.2**2 == pytest.approx(ref.acceleration, rel=0.03)
+
+
+def test_block_tower_does_not_drift(results):
+    drift = max(abs(final(results, "block_tower.toml", f"cube{k}.displacement.{c}")) for k in range(3) for c in "xy")
+    assert drift < 1e-4
