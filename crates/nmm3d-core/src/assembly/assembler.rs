@@ -88,34 +88,6 @@ impl Assembler {
     }
 }
 
-impl Assembler {
-    /// values += local for an arbitrary cover list whose couplings are in the pattern (contacts):
-    /// positions are looked up rather than precomputed.
-    pub fn add_general(&self, values: &mut [f64], dofs: &DofMap, covers: &[usize], local: &[f64]) {
-        let (masters, t) = masters_of(dofs, covers);
-        let mapped;
-        let local = match t {
-            None => local,
-            Some(tm) => {
-                mapped = transform(local, &tm, masters.len());
-                &mapped
-            }
-        };
-        let eqs: Vec<Option<usize>> = masters.iter().flat_map(|&c| (0..3).map(move |i| dofs.eq(c, i))).collect();
-        let n = eqs.len();
-        for (r, er) in eqs.iter().enumerate() {
-            for (c, ec) in eqs.iter().enumerate() {
-                if let (Some(er), Some(ec)) = (er, ec) {
-                    if er >= ec {
-                        let p = self.pattern.position(*er, *ec).expect("contact couplings are in the pattern");
-                        values[p] += local[r * n + c];
-                    }
-                }
-            }
-        }
-    }
-}
-
 /// Tᵀ L T for a (3n)² block L and scalar weights T (n × m), applied per 3 × 3 block.
 fn transform(l: &[f64], t: &[f64], m: usize) -> Vec<f64> {
     let n = t.len() / m;
