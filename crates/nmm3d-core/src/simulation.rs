@@ -250,6 +250,8 @@ fn summary(sys: &System, state: &State, stepper: &Stepper, rec: &Recorder, compl
         "max_contact_points": rec.max_contacts,
         "open_close_iterations": rec.open_close,
         "step_cuts": rec.cuts,
+        "penetration_cuts": stepper.penetration_cuts,
+        "penalty_raises": stepper.penalty_raises,
         "unbalanced_force_ratio": rec.last_unbalanced,
         "stress_sign": "compression negative",
         "timings": Value::Object(timings),

@@ -331,6 +331,7 @@ size = 0.5
 [contact]
 normal_stiffness = 2.5e8
 shear_stiffness = 2.5e8
+max_penetration_ratio = 0.05
 
 [[material]]
 name = "stiff"
@@ -470,4 +471,21 @@ shape = { box = { min = [0.9, 0.0, 0.0], max = [1.9, 1.0, 1.0] } }
         Err(e) => panic!("wrong error: {e}"),
         Ok(_) => panic!("overlapping blocks accepted"),
     }
+}
+
+#[test]
+fn a_soft_penalty_is_raised_until_the_overlap_is_allowed() {
+    // The drop test with a hundredth of its stiffness would overlap by 2.2 cm (4.5 % of the
+    // 0.5 m cover): the penalty must be raised until the overlap stays below 1 %.
+    let mut text = common::example("drop_test.toml");
+    for (old, new) in [("normal_stiffness = 2.5e8", "normal_stiffness = 2.5e6"), ("shear_stiffness = 2.5e8", "shear_stiffness = 2.5e6"),
+                       ("dt = 1.0e-5", "dt = 0.002"), ("duration = 0.0062", "duration = 0.05"),
+                       ("max_penetration_ratio = 0.05", "max_penetration_ratio = 0.01")] {
+        text = common::with(&text, old, new);
+    }
+    let out = run_ok(&text, "soft_penalty");
+    let raises = out.summary["penalty_raises"].as_u64().unwrap();
+    let pen = out.summary["max_penetration"].as_f64().unwrap();
+    assert!(raises >= 1, "no raise (penetration {pen} m)");
+    assert!(pen <= 0.01 * 0.5, "overlap {pen} m beyond 1 % of the cover size");
 }

@@ -484,6 +484,13 @@ impl ContactSet {
         }
     }
 
+    /// Multiply every penalty by `factor` (new points too), keeping the shear springs' forces.
+    pub fn stiffen(&mut self, factor: f64) {
+        self.params.kn *= factor;
+        self.params.ks *= factor;
+        self.records.iter_mut().for_each(|r| r.stiffen(factor));
+    }
+
     /// Largest penetration among closed points [m].
     pub fn max_penetration(&self) -> f64 {
         self.records.iter().filter(|r| r.state != ContactState::Open).map(|r| -r.gap).fold(0.0, f64::max)
@@ -616,6 +623,13 @@ pub fn overlap_problems(sys: &System, set: &ContactSet, depth: f64) -> Vec<Probl
 }
 
 impl ContactRecord {
+    /// Multiply the point's penalties by `factor`; the shear spring keeps its force.
+    pub fn stiffen(&mut self, factor: f64) {
+        self.kn *= factor;
+        self.ks *= factor;
+        self.shear0 /= factor;
+    }
+
     /// The point's spring in its current state, linearised: stiffness (3 × 3) and the constant
     /// force on A (B takes the opposite).
     pub fn spring(&self) -> (Mat3, Vec3) {

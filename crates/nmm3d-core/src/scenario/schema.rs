@@ -292,11 +292,14 @@ pub struct ContactSpec {
     pub normal_stiffness: Stiffness,
     /// Shear penalty [N/m] or "auto".
     pub shear_stiffness: Stiffness,
+    /// Largest contact overlap allowed at the end of a step, as a fraction of the cover size;
+    /// beyond it the step is cut (addition) [-].
+    pub max_penetration_ratio: f64,
 }
 
 impl Default for ContactSpec {
     fn default() -> Self {
-        Self { enabled: true, normal_stiffness: Stiffness::Auto, shear_stiffness: Stiffness::Auto }
+        Self { enabled: true, normal_stiffness: Stiffness::Auto, shear_stiffness: Stiffness::Auto, max_penetration_ratio: 0.01 }
     }
 }
 

@@ -47,6 +47,7 @@ pub fn validate(s: &Scenario, file: &str) -> Result<()> {
             c.positive(k, x);
         }
     }
+    c.positive("contact.max_penetration_ratio", s.contact.max_penetration_ratio);
     materials(&mut c, s);
     joints(&mut c, s);
     bodies(&mut c, s);

@@ -72,6 +72,10 @@ pub struct Stepper {
     force_scale: f64,
     /// Contacts locked (initial equilibrium): closed points stick whatever the force.
     locked: bool,
+    /// Step cuts because a contact overlapped beyond the allowed depth.
+    pub penetration_cuts: u64,
+    /// Times the contact penalties were raised because a contact overlapped too deep.
+    pub penalty_raises: u32,
     /// Time per phase so far.
     pub times: PhaseTimes,
 }
@@ -101,6 +105,8 @@ impl Stepper {
             values: vec![0.0; nnz],
             force_scale: 0.0,
             locked: false,
+            penetration_cuts: 0,
+            penalty_raises: 0,
             times: PhaseTimes::default(),
         };
         stepper.ensure_contact_pattern(sys);
@@ -155,7 +161,7 @@ impl Stepper {
             None => self.unbalanced_ratio(sys, &residual),
         };
         let (mv, ma) = (mass_times(sys, &state.v), mass_times(sys, &state.a));
-        let start_records = self.contacts.as_ref().map(|c| c.records.clone());
+        let mut start_records = self.contacts.as_ref().map(|c| c.records.clone());
         self.times.assembly += t.elapsed().as_secs_f64();
         let analysis = &sys.scenario.analysis;
         let mut dt = state.dt.min(dt_cap);
@@ -168,7 +174,22 @@ impl Stepper {
             let (d, iterations, settled) = self.open_close(sys, state, &residual, &mv, &ma, k.c0, k.c1, k.c2)?;
             let dmax = d.iter().map(|x| x.norm()).fold(0.0, f64::max);
             let ratio = dmax / (analysis.max_displacement_ratio * sys.half_size);
-            let verdict = if settled { step_control::judge(analysis, dt, ratio) } else { step_control::judge_unsettled(analysis, dt) };
+            // Contacts overlapping beyond the allowed depth: the penalty is too soft for the
+            // loads — raise it (×10, at most three times in a run) and repeat the step; after
+            // that, cut the step like an unsettled one (an impact in smaller steps overlaps less).
+            let too_deep = self.contacts.as_ref().is_some_and(|c| c.max_penetration() > sys.scenario.contact.max_penetration_ratio * sys.covers.mesh.size);
+            if too_deep && settled && self.penalty_raises < MAX_PENALTY_RAISES {
+                self.penalty_raises += 1;
+                if let (Some(c), Some(saved)) = (self.contacts.as_mut(), start_records.as_mut()) {
+                    c.stiffen(PENALTY_RAISE);
+                    saved.iter_mut().for_each(|r| r.stiffen(PENALTY_RAISE));
+                }
+                continue;
+            }
+            let verdict = if settled && !too_deep { step_control::judge(analysis, dt, ratio) } else { step_control::judge_unsettled(analysis, dt) };
+            if too_deep && settled && matches!(verdict, Verdict::Retry(_)) {
+                self.penetration_cuts += 1;
+            }
             match verdict {
                 Verdict::Accept => {
                     self.accept(sys, state, &d, dt);
@@ -431,6 +452,10 @@ fn contact_params(sys: &System) -> ContactParams {
     ContactParams { kn, ks, size, margin, skin: WARNING_SKIN * margin, tolerance }
 }
 
+/// Factor on the contact penalties when a contact overlaps beyond the allowed depth.
+const PENALTY_RAISE: f64 = 10.0;
+/// Largest number of such raises in a run.
+const MAX_PENALTY_RAISES: u32 = 3;
 /// Warning skin as a multiple of the detection margin (larger: fewer rebuilds, more pairs).
 const WARNING_SKIN: f64 = 2.0;
 /// Blocks overlapping deeper than this fraction of the cover size at the start are invalid input.
