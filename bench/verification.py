@@ -330,7 +330,8 @@ def main() -> None:
             f"Python {platform.python_version()}, {time.perf_counter() - t0:.0f} s). Do not edit by hand: rerun it.",
             "The fast versions of these checks run in the test suite (`crates/nmm3d-core/tests/verification_*.rs`).",
             "Closed forms are in `python/nmm3d/analytic.py`; independent references in `shared/design/verification-cases.md`.",
-            "Not yet here: the dominos and dougong runs and the sliding/toppling chart.", ""]
+            "Contact cases checked by tests only: the sliding/toppling chart (`tests/test_toppling.py`) and the "
+            "dominos run (`verification_dominos.rs`, timed in `docs/performance-contact.md`); not yet: dougong.", ""]
     (ROOT / "docs" / "verification.md").write_text("\n".join(head + rep.lines))
     print("wrote docs/verification.md")
 

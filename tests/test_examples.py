@@ -34,6 +34,7 @@ CASES = {
     "drop_test.toml": [],
     "tetrahedral_wedge.toml": ["analysis.duration=0.2"],
     "block_tower.toml": ["analysis.max_steps=1000"],
+    "dominos.toml": ["analysis.duration=0.3"],
 }
 
 
@@ -137,3 +138,9 @@ def test_tetrahedral_wedge_accelerates_as_the_vector_method(results):
 def test_block_tower_does_not_drift(results):
     drift = max(abs(final(results, "block_tower.toml", f"cube{k}.displacement.{c}")) for k in range(3) for c in "xy")
     assert drift < 1e-4
+
+
+def test_dominos_start_to_topple(results):
+    # The end dominos tip towards the others (the full run is a Rust verification test).
+    assert final(results, "dominos.toml", "d0.rotation.y") > 0.1
+    assert final(results, "dominos.toml", "d7.rotation.y") < -0.1
