@@ -331,7 +331,8 @@ def main() -> None:
             "The fast versions of these checks run in the test suite (`crates/nmm3d-core/tests/verification_*.rs`).",
             "Closed forms are in `python/nmm3d/analytic.py`; independent references in `shared/design/verification-cases.md`.",
             "Contact cases checked by tests only: the sliding/toppling chart (`tests/test_toppling.py`) and the "
-            "dominos run (`verification_dominos.rs`, timed in `docs/performance-contact.md`); not yet: dougong.", ""]
+            "dominos run (`verification_dominos.rs`, timed in `docs/performance-contact.md`) and the dougong collapse "
+            "(`verification_dougong.rs`).", ""]
     (ROOT / "docs" / "verification.md").write_text("\n".join(head + rep.lines))
     print("wrote docs/verification.md")
 
