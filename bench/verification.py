@@ -327,7 +327,9 @@ def main() -> None:
         rep.lines = [ln for part in kept for ln in part.rstrip("\n").split("\n") + [""]] + rep.lines
     head = ["# Verification", "",
             f"Produced by `python bench/verification.py` (nmm3d {nmm3d.__version__}, {platform.machine()}, "
-            f"Python {platform.python_version()}, {time.perf_counter() - t0:.0f} s). Do not edit by hand: rerun it.",
+            f"Python {platform.python_version()}, {time.perf_counter() - t0:.0f} s"
+            + (f" for {', '.join(args.only)}; the other sections kept from the previous run" if args.only else "")
+            + "). Do not edit by hand: rerun it.",
             "The fast versions of these checks run in the test suite (`crates/nmm3d-core/tests/verification_*.rs`).",
             "Closed forms are in `python/nmm3d/analytic.py`; independent references in `shared/design/verification-cases.md`.",
             "Contact cases checked by tests only: the sliding/toppling chart (`tests/test_toppling.py`) and the "
