@@ -489,3 +489,23 @@ fn a_soft_penalty_is_raised_until_the_overlap_is_allowed() {
     assert!(raises >= 1, "no raise (penetration {pen} m)");
     assert!(pen <= 0.01 * 0.5, "overlap {pen} m beyond 1 % of the cover size");
 }
+
+#[test]
+fn dda_scheme_restitution_matches_the_table() {
+    // Verification case (i): the DDA scheme (γ = 1) dissipates a bounce; restitution at
+    // ω Δt = 0.05 / 0.1 / 0.2 / 0.5 is 0.962 / 0.925 / 0.855 / 0.684 (ω² = k / m, no gravity).
+    let omega = (1e9f64 / 2500.0).sqrt();
+    for (wdt, table) in [(0.05, 0.962), (0.1, 0.925), (0.2, 0.855), (0.5, 0.684)] {
+        let mut text = common::example("drop_test.toml");
+        for (old, new) in [("dt = 1.0e-5", format!("dt = {}", wdt / omega)), ("integrator = \"newmark\"", "integrator = \"dda\"".into()),
+                           ("gravity = [0.0, 0.0, -10.0]", "gravity = [0.0, 0.0, 0.0]".into()), ("duration = 0.0062", "duration = 0.012".into()),
+                           ("max_displacement_ratio = 0.05", "max_displacement_ratio = 1.0".into())] {
+            text = common::with(&text, old, &new);
+        }
+        let name = format!("restitution_{wdt}");
+        run_ok(&text, &name);
+        let v = history(&name, "cube.velocity.z");
+        let e = -v.last().unwrap().1 / v[0].1;
+        assert!((e - table).abs() < 0.005, "ω Δt = {wdt}: restitution {e}, table {table}");
+    }
+}
