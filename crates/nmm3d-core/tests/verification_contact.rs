@@ -509,3 +509,18 @@ fn dda_scheme_restitution_matches_the_table() {
         assert!((e - table).abs() < 0.005, "ω Δt = {wdt}: restitution {e}, table {table}");
     }
 }
+
+#[test]
+fn an_open_close_iteration_that_cannot_settle_fails_the_run_with_its_reason() {
+    // One iteration allowed and no step cuts possible: the cube's points must go from stick to
+    // slide in the first step, which needs a second iteration.
+    let mut text = common::example("incline.toml");
+    text = common::with(&text, "initial_equilibrium = true", "initial_equilibrium = true\nmax_open_close = 1\nmin_dt_ratio = 1.0");
+    let dir = common::out_dir("unsettled");
+    let out = nmm3d_core::simulation::run(scenario(&text), "<test>", &nmm3d_core::simulation::RunOptions { out: dir.clone(), progress: false }).unwrap();
+    assert!(!out.completed);
+    let message = out.summary["message"].as_str().unwrap();
+    assert!(message.contains("open–close iteration did not settle"), "{message}");
+    assert_eq!(out.summary["status"], "failed");
+    assert!(dir.join("summary.json").exists() && dir.join("history.csv").exists() && dir.join("result.pvd").exists());
+}

@@ -36,6 +36,7 @@ use nmm3d_geom::contact::{detect, Contact, DetectParams, Mode};
 use nmm3d_geom::ConvexPolyhedron;
 use nmm3d_geom::{Mat3, Vec3};
 
+use crate::assembly::Assembler;
 use crate::error::Problem;
 use crate::scenario::Joint;
 use crate::state::State;
@@ -301,10 +302,11 @@ impl ContactSet {
         self.records.iter().filter(move |r| r.gap0 + r.offset < -depth)
     }
 
-    /// The springs of every closed point, summed per pair of MEs: `scatter` receives each ME
-    /// pair (lower index first) and its local matrix over the pair's cover clique (row-major,
-    /// (3m)²; one buffer reused); the constant forces go straight to `force` per cover.
-    pub fn assemble(&self, sys: &System, force: &mut [Vec3], mut scatter: impl FnMut((usize, usize), &[f64])) {
+    /// The springs of every closed point, summed per pair of MEs and scattered into `values`
+    /// through clique `slot(pair)` of `assembler` (the pair's covers, lower ME first); the
+    /// constant forces go straight to `force` per cover. A point's matrix is w wᵀ ⊗ B, so tied
+    /// covers are folded into the weights (Tᵀ w) before the product, not after.
+    pub fn assemble(&self, sys: &System, force: &mut [Vec3], assembler: &Assembler, slot: impl Fn((usize, usize)) -> usize, values: &mut [f64]) {
         let pair = |r: &ContactRecord| (r.a.element.min(r.b.element), r.a.element.max(r.b.element));
         let mut order: Vec<usize> = (0..self.records.len()).filter(|&k| self.records[k].state != ContactState::Open).collect();
         order.sort_by_key(|&k| pair(&self.records[k]));
@@ -312,7 +314,8 @@ impl ContactSet {
         let mut k = 0;
         while k < order.len() {
             let key = pair(&self.records[order[k]]);
-            let m = sys.covers.elements[key.0].covers.len() + sys.covers.elements[key.1].covers.len();
+            let e = slot(key);
+            let m = assembler.clique_len(e);
             mat.clear();
             mat.resize(9 * m * m, 0.0);
             while k < order.len() && pair(&self.records[order[k]]) == key {
@@ -332,9 +335,10 @@ impl ContactSet {
                 for (&c, wc) in clique.iter().zip(&w) {
                     force[c] += *wc * f;
                 }
-                for a in 0..m {
-                    for b in 0..m {
-                        let s = w[a] * w[b];
+                let wm = assembler.master_weights(e, &w);
+                for (a, wa) in wm.iter().enumerate().filter(|(_, x)| **x != 0.0) {
+                    for (b, wb) in wm.iter().enumerate().filter(|(_, x)| **x != 0.0) {
+                        let s = wa * wb;
                         for i in 0..3 {
                             for j in 0..3 {
                                 mat[(3 * a + i) * 3 * m + 3 * b + j] += s * block[(i, j)];
@@ -343,7 +347,7 @@ impl ContactSet {
                     }
                 }
             }
-            scatter(key, &mat);
+            assembler.add_mapped(values, e, &mat);
         }
     }
 

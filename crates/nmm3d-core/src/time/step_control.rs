@@ -38,11 +38,12 @@ pub fn judge(a: &Analysis, dt: f64, r: f64) -> Verdict {
     if r <= a.divergence_ratio { Verdict::Accept } else { Verdict::Diverged }
 }
 
-/// Judge a trial whose open–close iteration did not settle: cut by `open_close_cut` (DDA
-/// cuts to 0.3 Δt), down to the smallest step, where the last iterate is accepted.
+/// Judge a trial whose open–close iteration did not settle (or whose contacts overlap too
+/// deep): cut by `open_close_cut` (DDA cuts to 0.3 Δt), down to the smallest step, where the
+/// run cannot go on.
 pub fn judge_unsettled(a: &Analysis, dt: f64) -> Verdict {
     let dt_min = a.min_dt_ratio * a.dt;
-    if dt > dt_min * (1.0 + 1e-12) { Verdict::Retry((dt * a.open_close_cut).max(dt_min)) } else { Verdict::Accept }
+    if dt > dt_min * (1.0 + 1e-12) { Verdict::Retry((dt * a.open_close_cut).max(dt_min)) } else { Verdict::Diverged }
 }
 
 /// Step size after an accepted step of size `dt` with ratio `r`.
@@ -65,5 +66,13 @@ mod tests {
         assert_eq!(judge(&a, 1e-7, 1e9), Verdict::Diverged);
         assert!((next_dt(&a, 1e-4, 0.1) - 1.2e-4).abs() < 1e-18);
         assert_eq!(next_dt(&a, 1e-3, 0.0), 1e-3);
+    }
+
+    #[test]
+    fn an_unsettled_step_is_cut_then_fails_at_the_smallest_step() {
+        let a = Analysis::default();
+        assert_eq!(judge_unsettled(&a, 1e-3), Verdict::Retry(1e-3 * 0.3));
+        assert_eq!(judge_unsettled(&a, 2e-7), Verdict::Retry(a.min_dt_ratio * a.dt));
+        assert_eq!(judge_unsettled(&a, 1e-7), Verdict::Diverged);
     }
 }

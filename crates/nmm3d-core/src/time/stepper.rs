@@ -208,11 +208,14 @@ impl Stepper {
                     cuts += 1;
                 }
                 Verdict::Diverged => {
-                    return Err(Error::Diverged {
-                        step: state.step + 1,
-                        time: state.time,
-                        reason: format!("the step displacement ratio is {ratio:.3e} even at the smallest time step {dt:.3e} s"),
-                    })
+                    let reason = if !settled {
+                        format!("the open–close iteration did not settle in {} iterations even at the smallest time step {dt:.3e} s", analysis.max_open_close)
+                    } else if too_deep {
+                        format!("a contact overlaps by more than {} × the cover size even at the smallest time step {dt:.3e} s and the raised penalty", sys.scenario.contact.max_penetration_ratio)
+                    } else {
+                        format!("the step displacement ratio is {ratio:.3e} even at the smallest time step {dt:.3e} s")
+                    };
+                    return Err(Error::Diverged { step: state.step + 1, time: state.time, reason });
                 }
             }
         }
@@ -302,8 +305,8 @@ impl Stepper {
         let mut contact_force = vec![Vec3::zeros(); residual.len()];
         if let Some(c) = self.contacts.as_ref() {
             let n_elements = sys.covers.elements.len();
-            let (assembler, values, slots) = (&self.assembler, &mut self.values, &self.contact_slots);
-            c.assemble(sys, &mut contact_force, |pair, mat| assembler.add(values, n_elements + slots[&pair], mat));
+            let slots = &self.contact_slots;
+            c.assemble(sys, &mut contact_force, &self.assembler, |pair| n_elements + slots[&pair], &mut self.values);
         }
         self.solver
             .factorize(&self.assembler.pattern, &self.values)
