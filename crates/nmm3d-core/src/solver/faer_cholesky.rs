@@ -23,6 +23,9 @@ pub struct FaerCholesky {
     choice: Ordering,
     symbolic: Option<SymbolicCholesky<u32>>,
     values: Vec<f64>,
+    /// Scratch of the numeric factorisation, kept: it is large for supernodal factors, and a
+    /// fresh one per factorisation (every open–close iteration) costs its page clearing.
+    scratch: Option<MemBuffer>,
     ordering: Option<&'static str>,
     symbolic_seconds: f64,
     numeric_seconds: f64,
@@ -50,6 +53,7 @@ impl FaerCholesky {
         self.ordering = Some(if nd.is_some() { "nested dissection" } else { "amd" });
         let s = factorize_symbolic_cholesky(sym, Side::Lower, ord, Default::default()).map_err(|e| format!("{e:?}"))?;
         self.values = vec![0.0; s.len_val()];
+        self.scratch = Some(MemBuffer::new(s.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())));
         self.symbolic = Some(s);
         self.symbolic_seconds += t.elapsed().as_secs_f64();
         Ok(())
@@ -65,8 +69,8 @@ impl LinearSolver for FaerCholesky {
         let s = self.symbolic.as_ref().expect("analysed above");
         let sym = SymbolicSparseColMatRef::new_checked(p.n, p.n, &p.col_ptr, None, &p.row_idx);
         let mat = SparseColMatRef::new(sym, values);
-        let mut mem = MemBuffer::new(s.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()));
-        s.factorize_numeric_llt::<f64>(&mut self.values, mat, Side::Lower, Default::default(), Par::Seq, MemStack::new(&mut mem), Default::default())
+        let mem = self.scratch.as_mut().expect("allocated with the symbolic factorisation");
+        s.factorize_numeric_llt::<f64>(&mut self.values, mat, Side::Lower, Default::default(), Par::Seq, MemStack::new(mem), Default::default())
             .map_err(|e| format!("the system matrix is not positive definite ({e:?}): a body may be free to move without inertia, or a penalty may be far too large"))?;
         self.numeric_seconds += t.elapsed().as_secs_f64();
         Ok(())
