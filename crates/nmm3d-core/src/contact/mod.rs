@@ -219,78 +219,11 @@ impl ContactSet {
             by_pair.entry(r.blocks).or_default().push(k);
         }
         for (i, j, normal, points) in found {
-            let (pa, pb) = (&self.pieces[i], &self.pieces[j]);
-            let joint = joint_between(sys, pa.block, pb.block);
+            let blocks = (self.pieces[i].block, self.pieces[j].block);
+            let joint = joint_between(sys, blocks.0, blocks.1);
             for q in points {
-                let (a, b, area) = (q.a, q.b, q.area);
-                // Touching counts as closed: blocks placed on each other start in contact.
-                let touching = q.gap <= TOUCHING * p.tolerance;
-                let tan_phi = joint.map_or(0.0, |j| j.friction_angle.to_radians().tan());
-                let bonded = initial && touching;
-                let mut r = ContactRecord {
-                    blocks: (pa.block, pb.block),
-                    mode: q.mode,
-                    a,
-                    b,
-                    normal,
-                    gap0: q.gap,
-                    offset: 0.0,
-                    state: if touching { ContactState::Stick } else { ContactState::Open },
-                    shear0: Vec3::zeros(),
-                    slip: Vec3::zeros(),
-                    strength: Strength {
-                        tan_phi,
-                        cohesion: if bonded { joint.map_or(0.0, |j| j.cohesion) * area } else { 0.0 },
-                        tension: if bonded { joint.map_or(0.0, |j| j.tensile_strength) * area } else { 0.0 },
-                    },
-                    area,
-                    kn: p.kn * stiffness_share(area, p.size),
-                    ks: p.ks * stiffness_share(area, p.size),
-                    preload: if bonded { in_situ_traction(sys, &q.on_a, &normal) * area } else { Vec3::zeros() },
-                    gap: q.gap,
-                    rel: Vec3::zeros(),
-                    force: Vec3::zeros(),
-                    reclosed: 0,
-                    opened: false,
-                    limit: 0.0,
-                };
-                if initial && touching {
-                    r.offset = q.gap;
-                }
-                let nearest_old = nearest(&previous, by_pair.get(&r.blocks), &r.a.reference, f64::INFINITY);
-                if let Some(old) = nearest_old {
-                    r.offset = old.offset;
-                }
-                (r.gap0, r.gap) = (q.gap - r.offset, q.gap - r.offset);
-                if let Some(old) = nearest_old.filter(|o| (o.a.reference - r.a.reference).norm() < 10.0 * p.tolerance) {
-                    if old.state != ContactState::Open {
-                        // Still closed unless the springs would pull harder than the bond holds.
-                        let pull = r.kn * r.gap0 - r.normal.dot(&old.preload);
-                        let band = GAP_BAND * p.size * r.kn;
-                        r.state = if self.locked || pull <= old.strength.tension + band { old.state } else { ContactState::Open };
-                        let t = tangential(&r.normal);
-                        r.shear0 = t * old.shear0;
-                        r.slip = old.slip;
-                        r.preload = old.preload;
-                        r.strength = Strength { tan_phi, ..old.strength };
-                        r.force = old.force;
-                        if r.state == ContactState::Slide {
-                            // Linearise the friction about the last step's slip, not about rest.
-                            r.rel = old.rel;
-                        }
-                    }
-                } else if let Some(old) = nearest_old {
-                    // A new point of a pair already sliding (its points move on with the
-                    // slip) slides too, at the Coulomb limit, instead of braking as a fresh
-                    // stuck spring for one iteration.
-                    if old.state == ContactState::Slide && r.state == ContactState::Stick {
-                        r.state = ContactState::Slide;
-                        r.slip = old.slip;
-                        r.rel = old.rel;
-                        r.shear0 = r.slip * (tan_phi * (-r.kn * r.gap0).max(0.0) / r.ks);
-                    }
-                }
-                r.limit = r.strength.tan_phi * (r.normal.dot(&r.preload) - r.kn * r.gap0).max(0.0) + r.strength.cohesion;
+                let mut r = ContactRecord::fresh(sys, q, blocks, normal, joint, initial, &p);
+                inherit(&mut r, &previous, by_pair.get(&blocks), &p, self.locked);
                 self.records.push(r);
             }
         }
@@ -596,6 +529,45 @@ fn in_situ_traction(sys: &System, x: &Vec3, n: &Vec3) -> Vec3 {
     -(sigma * n)
 }
 
+/// Transfer to a new point `r` what its predecessor — the previous point of the same block
+/// pair nearest it — carried: zero level always; state, shear, slip, preload and bond when the
+/// predecessor is within the transfer distance and closed; a pair already sliding makes a new
+/// point slide at the Coulomb limit instead of braking as a fresh stuck spring.
+fn inherit(r: &mut ContactRecord, previous: &[ContactRecord], candidates: Option<&Vec<usize>>, p: &ContactParams, locked: bool) {
+    let q_gap = r.gap0;
+    let nearest_old = nearest(previous, candidates, &r.a.reference, f64::INFINITY);
+    if let Some(old) = nearest_old {
+        r.offset = old.offset;
+    }
+    (r.gap0, r.gap) = (q_gap - r.offset, q_gap - r.offset);
+    let tan_phi = r.strength.tan_phi;
+    if let Some(old) = nearest_old.filter(|o| (o.a.reference - r.a.reference).norm() < 10.0 * p.tolerance) {
+        if old.state != ContactState::Open {
+            // Still closed unless the springs would pull harder than the bond holds.
+            let pull = r.kn * r.gap0 - r.normal.dot(&old.preload);
+            let band = GAP_BAND * p.size * r.kn;
+            r.state = if locked || pull <= old.strength.tension + band { old.state } else { ContactState::Open };
+            r.shear0 = tangential(&r.normal) * old.shear0;
+            r.slip = old.slip;
+            r.preload = old.preload;
+            r.strength = Strength { tan_phi, ..old.strength };
+            r.force = old.force;
+            if r.state == ContactState::Slide {
+                // Linearise the friction about the last step's slip, not about rest.
+                r.rel = old.rel;
+            }
+        }
+    } else if let Some(old) = nearest_old {
+        if old.state == ContactState::Slide && r.state == ContactState::Stick {
+            r.state = ContactState::Slide;
+            r.slip = old.slip;
+            r.rel = old.rel;
+            r.shear0 = r.slip * (tan_phi * (-r.kn * r.gap0).max(0.0) / r.ks);
+        }
+    }
+    r.limit = r.strength.tan_phi * (r.normal.dot(&r.preload) - r.kn * r.gap0).max(0.0) + r.strength.cohesion;
+}
+
 /// The previous point (among `candidates`) nearest `x` within `reach`.
 fn nearest<'a>(previous: &'a [ContactRecord], candidates: Option<&Vec<usize>>, x: &Vec3, reach: f64) -> Option<&'a ContactRecord> {
     candidates?
@@ -627,6 +599,43 @@ pub fn overlap_problems(sys: &System, set: &ContactSet, depth: f64) -> Vec<Probl
 }
 
 impl ContactRecord {
+    /// A point detected now, before any transfer: touching points are closed (stuck), and at
+    /// the start take their gap as zero level, the joint's bond and the in-situ preload.
+    fn fresh(sys: &System, q: Candidate, blocks: (usize, usize), normal: Vec3, joint: Option<&Joint>, initial: bool, p: &ContactParams) -> Self {
+        // Touching counts as closed: blocks placed on each other start in contact.
+        let touching = q.gap <= TOUCHING * p.tolerance;
+        let bonded = initial && touching;
+        let area = q.area;
+        let strength = |f: fn(&Joint) -> f64| if bonded { joint.map_or(0.0, f) * area } else { 0.0 };
+        Self {
+            blocks,
+            mode: q.mode,
+            normal,
+            gap0: q.gap,
+            offset: if bonded { q.gap } else { 0.0 },
+            state: if touching { ContactState::Stick } else { ContactState::Open },
+            shear0: Vec3::zeros(),
+            slip: Vec3::zeros(),
+            strength: Strength {
+                tan_phi: joint.map_or(0.0, |j| j.friction_angle.to_radians().tan()),
+                cohesion: strength(|j| j.cohesion),
+                tension: strength(|j| j.tensile_strength),
+            },
+            area,
+            kn: p.kn * stiffness_share(area, p.size),
+            ks: p.ks * stiffness_share(area, p.size),
+            preload: if bonded { in_situ_traction(sys, &q.on_a, &normal) * area } else { Vec3::zeros() },
+            gap: q.gap,
+            rel: Vec3::zeros(),
+            force: Vec3::zeros(),
+            reclosed: 0,
+            opened: false,
+            limit: 0.0,
+            a: q.a,
+            b: q.b,
+        }
+    }
+
     /// Multiply the point's penalties by `factor`; the shear spring keeps its force.
     pub fn stiffen(&mut self, factor: f64) {
         self.kn *= factor;
