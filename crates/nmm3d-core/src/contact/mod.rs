@@ -337,30 +337,7 @@ impl ContactSet {
             let s = r.strength;
             let limit = s.tan_phi * normal.max(0.0) + s.cohesion;
             let closing = r.state == ContactState::Open;
-            let new = match r.state {
-                // A point that has closed twice in this step's iterations stays open: it sits
-                // where the pressure changes sign and would flip for ever; left open it may
-                // overlap by that flip's round-off until the next step.
-                // Hysteresis of ±band around zero gap: a point at zero force (the side faces of
-                // neighbouring blocks) must not flip with round-off.
-                ContactState::Open if r.gap > -band || r.reclosed >= MAX_RECLOSE => ContactState::Open,
-                // A point that opened in this step's iterations closes again only once it
-                // overlaps by the re-closing depth: small overlaps there are rocking within
-                // the iteration, not contact, and chasing them does not converge.
-                ContactState::Open if r.opened && r.gap > -reclose => ContactState::Open,
-                _ if locked => ContactState::Stick,
-                _ if !closing && normal < -s.tension - kn * band => ContactState::Open,
-                // A closing point sticks or slides by the same Coulomb test (a point entering
-                // while the blocks slip slides at once instead of braking for an iteration).
-                // The same hysteresis on the cone: a stuck point slides once the trial exceeds
-                // the limit by the band's spring force.
-                // A sliding point whose slip would reverse sticks (DDA's rule; the direction of
-                // a point barely slipping is noise and would flip between iterations).
-                ContactState::Slide if held.dot(&r.slip) > 0.0 => ContactState::Stick,
-                ContactState::Slide if held.norm() > limit => ContactState::Slide,
-                _ if held.norm() > limit + ks * band => ContactState::Slide,
-                _ => ContactState::Stick,
-            };
+            let new = next_state(r, normal, &held, limit, band, reclose, locked);
             if new == ContactState::Slide && held.norm() > 0.0 {
                 // A slips against the force that would hold it.
                 largest = largest.max(limit);
@@ -382,12 +359,10 @@ impl ContactSet {
                 }
                 if new == ContactState::Open {
                     r.preload = Vec3::zeros();
+                    r.opened = true;
                 }
                 if closing {
                     r.reclosed += 1;
-                }
-                if new == ContactState::Open {
-                    r.opened = true;
                 }
                 r.state = new;
             }
@@ -527,6 +502,33 @@ fn in_situ_traction(sys: &System, x: &Vec3, n: &Vec3) -> Vec3 {
     // Voigt order xx, yy, zz, xy, yz, zx.
     let sigma = Mat3::new(c[0], c[3], c[5], c[3], c[1], c[4], c[5], c[4], c[2]);
     -(sigma * n)
+}
+
+/// The state of point `r` after a solve (the table of the module documentation), from its
+/// normal force, elastic trial shear force `held` and Coulomb limit, with hysteresis of ±`band`
+/// on gap and cone.
+fn next_state(r: &ContactRecord, normal: f64, held: &Vec3, limit: f64, band: f64, reclose: f64, locked: bool) -> ContactState {
+    let closing = r.state == ContactState::Open;
+    match r.state {
+        // Open until it overlaps beyond the band: a point at zero force (the side faces of
+        // neighbouring blocks) must not flip with round-off. A point that closed twice in this
+        // step's iterations stays open (it sits where the pressure changes sign and would flip
+        // for ever); one that opened closes again only at the re-closing depth (small overlaps
+        // there are rocking within the iteration, not contact).
+        ContactState::Open if r.gap > -band || r.reclosed >= MAX_RECLOSE => ContactState::Open,
+        ContactState::Open if r.opened && r.gap > -reclose => ContactState::Open,
+        _ if locked => ContactState::Stick,
+        // Tension beyond the bond (and the band's spring force) opens a closed point.
+        _ if !closing && normal < -r.strength.tension - r.kn * band => ContactState::Open,
+        // A sliding point whose slip would reverse sticks (DDA's rule; the direction of a point
+        // barely slipping is noise and would flip between iterations).
+        ContactState::Slide if held.dot(&r.slip) > 0.0 => ContactState::Stick,
+        ContactState::Slide if held.norm() > limit => ContactState::Slide,
+        // A stuck or closing point slides once the trial exceeds the limit by the band's spring
+        // force (a point entering while the blocks slip slides at once instead of braking).
+        _ if held.norm() > limit + r.ks * band => ContactState::Slide,
+        _ => ContactState::Stick,
+    }
 }
 
 /// Transfer to a new point `r` what its predecessor — the previous point of the same block
