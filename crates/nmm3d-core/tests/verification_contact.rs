@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{final_value, history, run_ok, scenario};
+use common::{example, final_value, history, run_ok, scenario};
 use nmm3d_core::error::Error;
 use nmm3d_core::simulation::RunOutcome;
 use nmm3d_core::state::State;
@@ -38,23 +38,11 @@ name = "j"
     )
 }
 
-fn incline_planes(alpha_deg: f64) -> (String, String) {
-    let a = alpha_deg.to_radians();
-    let n = [0.0, a.sin(), a.cos()];
-    let s = [0.0, a.cos(), -a.sin()];
-    let plane = |v: [f64; 3], d: f64| format!("[{}, {}, {}, {}]", v[0], v[1], v[2], d);
-    let neg = |v: [f64; 3]| [-v[0], -v[1], -v[2]];
-    let x = [1.0, 0.0, 0.0];
-    let base = [plane(n, 0.0), plane(neg(n), 3.0), plane(s, 4.0), plane(neg(s), 4.0), plane(x, 2.5), plane(neg(x), 2.5)].join(", ");
-    let slab = [plane(neg(n), 0.0), plane(n, 0.5), plane(s, 0.5), plane(neg(s), 0.5), plane(x, 0.5), plane(neg(x), 0.5)].join(", ");
-    (base, slab)
-}
-
 /// A 1 × 1 × 0.5 m slab on a frictionless 30° incline glued by cohesion c [Pa]; returns the
 /// slide [m]. (Squat, so the whole base stays in compression: a 1 m cube's uphill third would
 /// lift off and break its bond in tension.)
 fn glued_cube_slide(cohesion: f64, name: &str) -> f64 {
-    let (base, cube) = incline_planes(30.0);
+    let (base, cube) = common::incline_planes(30.0, 0.0, 0.5);
     let text = cube_case(
         "duration = 0.5\ndt = 0.002\nmax_displacement_ratio = 0.002\ngravity = [0.0, 0.0, -10.0]\ninitial_equilibrium = true",
         &format!("friction_angle = 0.0\ncohesion = {cohesion}"),
@@ -310,56 +298,10 @@ fn block_on_block_and_a_three_block_tower_rest_without_drift() {
 }
 
 /// A 1 m cube (2500 kg) reaching a fixed base at the speed of a 1 m drop (g = 10), total normal
-/// stiffness 1e9 N/m over its four corners, Newmark γ = ½. Returns (contact time, penetration).
+/// stiffness 1e9 N/m (examples/drop_test.toml), Newmark γ = ½. Returns (contact time, penetration).
 fn drop_test() -> (f64, f64) {
-    let gap: f64 = 1e-3;
-    let v0 = (2.0 * 10.0 * (1.0 - gap)).sqrt();
-    let text = format!(
-        r#"
-[analysis]
-duration = 0.0062
-dt = 1.0e-5
-max_displacement_ratio = 0.05
-gravity = [0.0, 0.0, -10.0]
-output_interval = 0.0
-integrator = "newmark"
-
-[cover]
-pattern = "tet6"
-size = 0.5
-
-[contact]
-normal_stiffness = 2.5e8
-shear_stiffness = 2.5e8
-max_penetration_ratio = 0.05
-
-[[material]]
-name = "stiff"
-density = 2500.0
-young = 1.0e13
-poisson = 0.0
-
-[[body]]
-name = "base"
-material = "stiff"
-fixed = true
-shape = {{ box = {{ min = [-1.0, -1.0, -1.0], max = [1.0, 1.0, 0.0] }} }}
-
-[[body]]
-name = "cube"
-material = "stiff"
-velocity = [0.0, 0.0, {}]
-shape = {{ box = {{ min = [-0.5, -0.5, {gap}], max = [0.5, 0.5, {}] }} }}
-
-[[monitor]]
-name = "cube"
-select = {{ body = "cube" }}
-quantities = ["displacement"]
-"#,
-        -v0,
-        1.0 + gap
-    );
-    run_ok(&text, "drop_test");
+    let gap: f64 = 1e-3; // the cube starts this far above the base (examples/drop_test.toml)
+    run_ok(&example("drop_test.toml"), "drop_test");
     let z = history("drop_test", "cube.displacement.z");
     // In contact while the cube is below its touching level.
     let inside: Vec<f64> = z.iter().filter(|(_, u)| *u < -gap).map(|(t, _)| *t).collect();

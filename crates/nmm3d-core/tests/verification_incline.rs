@@ -23,16 +23,7 @@ fn slide_distance(alpha_deg: f64, phi_deg: f64, g: f64, t: f64) -> f64 {
 }
 
 fn incline(phi: f64, dip_direction: f64) -> String {
-    let a = 30f64.to_radians();
-    let dd = dip_direction.to_radians();
-    // Upward normal of the slope, dip vector, strike.
-    let n = [a.sin() * dd.sin(), a.sin() * dd.cos(), a.cos()];
-    let s = [a.cos() * dd.sin(), a.cos() * dd.cos(), -a.sin()];
-    let h = [dd.cos(), -dd.sin(), 0.0];
-    let plane = |v: [f64; 3], d: f64| format!("[{}, {}, {}, {}]", v[0], v[1], v[2], d);
-    let neg = |v: [f64; 3]| [-v[0], -v[1], -v[2]];
-    let base = [plane(n, 0.0), plane(neg(n), 3.0), plane(s, 4.0), plane(neg(s), 4.0), plane(h, 2.5), plane(neg(h), 2.5)].join(", ");
-    let cube = [plane(neg(n), 0.0), plane(n, 1.0), plane(s, 0.5), plane(neg(s), 0.5), plane(h, 0.5), plane(neg(h), 0.5)].join(", ");
+    let (base, cube) = common::incline_planes(30.0, dip_direction, 1.0);
     format!(
         r#"
 [analysis]

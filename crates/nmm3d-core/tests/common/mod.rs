@@ -82,3 +82,20 @@ pub fn with(text: &str, old: &str, new: &str) -> String {
     assert!(text.contains(old), "'{old}' is not in the scenario");
     text.replacen(old, new, 1)
 }
+
+/// Half-space planes (`convex` shape rows) of a fixed incline dipping `alpha_deg` towards
+/// `dip_direction_deg` (surface through the origin, 3 m thick, 8 × 5 m) and of a block of
+/// `height` × 1 × 1 m resting on it at the origin.
+#[allow(dead_code)] // not every test binary builds inclines
+pub fn incline_planes(alpha_deg: f64, dip_direction_deg: f64, height: f64) -> (String, String) {
+    let (a, dd) = (alpha_deg.to_radians(), dip_direction_deg.to_radians());
+    // Upward normal of the slope, dip vector, strike.
+    let n = [a.sin() * dd.sin(), a.sin() * dd.cos(), a.cos()];
+    let s = [a.cos() * dd.sin(), a.cos() * dd.cos(), -a.sin()];
+    let h = [dd.cos(), -dd.sin(), 0.0];
+    let plane = |v: [f64; 3], d: f64| format!("[{}, {}, {}, {}]", v[0], v[1], v[2], d);
+    let neg = |v: [f64; 3]| [-v[0], -v[1], -v[2]];
+    let base = [plane(n, 0.0), plane(neg(n), 3.0), plane(s, 4.0), plane(neg(s), 4.0), plane(h, 2.5), plane(neg(h), 2.5)].join(", ");
+    let block = [plane(neg(n), 0.0), plane(n, height), plane(s, 0.5), plane(neg(s), 0.5), plane(h, 0.5), plane(neg(h), 0.5)].join(", ");
+    (base, block)
+}
