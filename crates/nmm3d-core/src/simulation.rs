@@ -252,6 +252,7 @@ fn summary(sys: &System, state: &State, stepper: &Stepper, rec: &Recorder, compl
         "step_cuts": rec.cuts,
         "penetration_cuts": stepper.penetration_cuts,
         "penalty_raises": stepper.penalty_raises,
+        "pattern_rebuilds": stepper.pattern_rebuilds(),
         "unbalanced_force_ratio": rec.last_unbalanced,
         "stress_sign": "compression negative",
         "timings": Value::Object(timings),

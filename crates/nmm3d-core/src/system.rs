@@ -72,7 +72,7 @@ impl System {
         let tied = aggregation::tie_ill_posed(&covers, &fixed_block, scenario.cover.aggregation_threshold);
         let fixed: Vec<bool> = covers.covers.iter().map(|c| fixed_block[c.block]).collect();
         let dofs = DofMap::new(&fixed, &tied);
-        let (assembler, mass_values) = pattern_and_mass(&covers, &dofs, &kernels, &kernel_of, &[]);
+        let (assembler, mass_values) = pattern_and_mass(&covers, &dofs, &kernels, &kernel_of);
         let max_young = geometry.materials.iter().map(|m| m.young).fold(0.0, f64::max);
         let penalty = match scenario.analysis.penalty_stiffness {
             Stiffness::Value(v) => v,
@@ -190,21 +190,13 @@ impl System {
     }
 }
 
-/// The sparsity pattern of the MEs' cover cliques plus `extra` cliques (contacts), its scatter
-/// maps (extra clique k at index n_elements + k), and the consistent mass assembled on it.
-pub fn pattern_and_mass(
-    covers: &Covers,
-    dofs: &DofMap,
-    kernels: &[ElementKernel],
-    kernel_of: &[usize],
-    extra: &[Vec<usize>],
-) -> (Assembler, Vec<f64>) {
+/// The sparsity pattern of the MEs' cover cliques, its scatter maps, and the consistent mass
+/// assembled on it.
+pub fn pattern_and_mass(covers: &Covers, dofs: &DofMap, kernels: &[ElementKernel], kernel_of: &[usize]) -> (Assembler, Vec<f64>) {
     let cliques: Vec<&[usize]> = covers.elements.iter().map(|e| e.covers.as_slice()).collect();
-    let masters: Vec<Vec<usize>> = cliques.iter().copied().chain(extra.iter().map(|c| c.as_slice())).map(|c| masters_of(dofs, c).0).collect();
-    let pattern = SparsityPattern::from_cliques(dofs, covers.covers.len(), masters.iter().map(|c| c.as_slice()));
-    // Scatter maps for the MEs and, after them, for the extra cliques.
-    let all: Vec<&[usize]> = cliques.iter().copied().chain(extra.iter().map(|c| c.as_slice())).collect();
-    let assembler = Assembler::new(pattern, dofs, &all);
+    let masters: Vec<Vec<usize>> = cliques.iter().map(|c| masters_of(dofs, c).0).collect();
+    let pattern = SparsityPattern::from_cliques(dofs, masters.iter().map(|c| c.as_slice()));
+    let assembler = Assembler::new(pattern, dofs, &cliques);
     let mut mass = vec![0.0; assembler.pattern.nnz()];
     for (e, me) in covers.elements.iter().enumerate() {
         assembler.add(&mut mass, e, &expand_mass(&kernels[kernel_of[e]].mass, me.covers.len()));

@@ -89,30 +89,11 @@ impl Assembler {
 }
 
 impl Assembler {
-    /// Number of scatter nodes of clique `e` (its covers, or its free masters when some of its
-    /// covers are tied).
-    pub fn clique_len(&self, e: usize) -> usize {
-        let n = self.offsets[e + 1] - self.offsets[e];
-        ((n / 9) as f64).sqrt().round() as usize
-    }
-
-    /// Per-node scalars w over clique `e`'s covers mapped to its scatter nodes: Tᵀ w.
-    pub fn master_weights(&self, e: usize, w: &[f64]) -> Vec<f64> {
-        match &self.transforms[e] {
-            None => w.to_vec(),
-            Some((m, t)) => (0..*m).map(|p| w.iter().enumerate().map(|(a, wa)| wa * t[a * m + p]).sum()).collect(),
-        }
-    }
-
-    /// values += local, already expressed over clique `e`'s scatter nodes (no transform).
-    #[inline]
-    pub fn add_mapped(&self, values: &mut [f64], e: usize, local: &[f64]) {
-        let t = &self.targets[self.offsets[e]..self.offsets[e + 1]];
-        for (&pos, &v) in t.iter().zip(local) {
-            if pos != SKIP {
-                values[pos as usize] += v;
-            }
-        }
+    /// The same scatter onto `pattern`, which holds this one's pattern: `map` from
+    /// [`SparsityPattern::embedding`].
+    pub fn remapped(&self, pattern: SparsityPattern, map: &[u32]) -> Self {
+        let targets = self.targets.iter().map(|&t| if t == SKIP { SKIP } else { map[t as usize] }).collect();
+        Self { pattern, offsets: self.offsets.clone(), targets, transforms: self.transforms.clone() }
     }
 }
 

@@ -36,7 +36,7 @@ use nmm3d_geom::contact::{detect, Contact, DetectParams, Mode};
 use nmm3d_geom::ConvexPolyhedron;
 use nmm3d_geom::{Mat3, Vec3};
 
-use crate::assembly::Assembler;
+use crate::assembly::{Coupling, SparsityPattern};
 use crate::error::Problem;
 use crate::scenario::Joint;
 use crate::state::State;
@@ -235,40 +235,42 @@ impl ContactSet {
         self.records.iter().filter(move |r| r.gap0 + r.offset < -depth)
     }
 
+    /// Pairs of MEs (lower first) with a closed point, sorted, each once.
+    pub fn closed_pairs(&self) -> Vec<(usize, usize)> {
+        let mut pairs: Vec<_> = self.records.iter().filter(|r| r.state != ContactState::Open).map(ContactRecord::element_pair).collect();
+        pairs.sort_unstable();
+        pairs.dedup();
+        pairs
+    }
+
     /// The springs of every closed point, summed per pair of MEs and scattered into `values`
-    /// through clique `slot(pair)` of `assembler` (the pair's covers, lower ME first); the
-    /// constant forces go straight to `force` per cover. A point's matrix is w wᵀ ⊗ B, so tied
-    /// covers are folded into the weights (Tᵀ w) before the product, not after.
-    pub fn assemble(&self, sys: &System, force: &mut [Vec3], assembler: &Assembler, slot: impl Fn((usize, usize)) -> usize, values: &mut [f64]) {
-        let pair = |r: &ContactRecord| (r.a.element.min(r.b.element), r.a.element.max(r.b.element));
+    /// (on `pattern`) through the pair's coupling (its covers, lower ME first); the constant
+    /// forces go straight to `force` per cover. A point's matrix is w wᵀ ⊗ B, so tied covers
+    /// are folded into the weights (Tᵀ w) before the product, not after.
+    pub fn assemble<'a>(&self, sys: &System, force: &mut [Vec3], pattern: &SparsityPattern, coupling: impl Fn((usize, usize)) -> &'a Coupling, values: &mut [f64]) {
         let mut order: Vec<usize> = (0..self.records.len()).filter(|&k| self.records[k].state != ContactState::Open).collect();
-        order.sort_by_key(|&k| pair(&self.records[k]));
-        let mut mat: Vec<f64> = Vec::new();
+        order.sort_by_key(|&k| self.records[k].element_pair());
+        let (mut mat, mut w, mut wm) = (Vec::new(), Vec::new(), Vec::new());
         let mut k = 0;
         while k < order.len() {
-            let key = pair(&self.records[order[k]]);
-            let e = slot(key);
-            let m = assembler.clique_len(e);
+            let key = self.records[order[k]].element_pair();
+            let cp = coupling(key);
+            let m = cp.nodes();
             mat.clear();
             mat.resize(9 * m * m, 0.0);
-            while k < order.len() && pair(&self.records[order[k]]) == key {
+            while k < order.len() && self.records[order[k]].element_pair() == key {
                 let r = &self.records[order[k]];
                 k += 1;
                 let (block, f) = r.spring();
-                let (ea, eb) = (r.a.element, r.b.element);
-                let (ca, cb) = (&sys.covers.elements[ea].covers, &sys.covers.elements[eb].covers);
                 // Weights in the clique order of the pair (lower ME first); B's negative.
-                let wa = r.a.weights.iter().copied();
-                let wb = r.b.weights.iter().map(|x| -x);
-                let (w, clique): (Vec<f64>, Vec<usize>) = if ea < eb {
-                    (wa.chain(wb).collect(), ca.iter().chain(cb).copied().collect())
-                } else {
-                    (wb.chain(wa).collect(), cb.iter().chain(ca).copied().collect())
-                };
-                for (&c, wc) in clique.iter().zip(&w) {
+                let (first, second, sign) = if r.a.element < r.b.element { (&r.a, &r.b, 1.0) } else { (&r.b, &r.a, -1.0) };
+                w.clear();
+                w.extend(first.weights.iter().map(|x| sign * x).chain(second.weights.iter().map(|x| -sign * x)));
+                let covers = sys.covers.elements[first.element].covers.iter().chain(&sys.covers.elements[second.element].covers);
+                for (&c, wc) in covers.zip(&w) {
                     force[c] += *wc * f;
                 }
-                let wm = assembler.master_weights(e, &w);
+                cp.node_weights(&w, &mut wm);
                 for (a, wa) in wm.iter().enumerate().filter(|(_, x)| **x != 0.0) {
                     for (b, wb) in wm.iter().enumerate().filter(|(_, x)| **x != 0.0) {
                         let s = wa * wb;
@@ -280,7 +282,7 @@ impl ContactSet {
                     }
                 }
             }
-            assembler.add_mapped(values, e, &mat);
+            cp.add(pattern, values, &mat);
         }
     }
 
@@ -636,6 +638,11 @@ impl ContactRecord {
             a: q.a,
             b: q.b,
         }
+    }
+
+    /// The pair of MEs the point couples, lower first.
+    pub fn element_pair(&self) -> (usize, usize) {
+        (self.a.element.min(self.b.element), self.a.element.max(self.b.element))
     }
 
     /// Multiply the point's penalties by `factor`; the shear spring keeps its force.

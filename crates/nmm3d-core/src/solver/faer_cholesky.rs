@@ -76,6 +76,10 @@ impl LinearSolver for FaerCholesky {
         Ok(())
     }
 
+    fn new_pattern(&mut self) {
+        (self.symbolic, self.scratch) = (None, None);
+    }
+
     fn solve(&self, rhs: &mut [f64]) {
         let n = rhs.len();
         let s = self.symbolic.as_ref().expect("factorize before solve");

@@ -13,6 +13,9 @@ pub trait LinearSolver: Send {
     /// Factorise the matrix with the given pattern (lower triangle) and values. The symbolic
     /// analysis (ordering, elimination tree) is done on the first call and reused.
     fn factorize(&mut self, pattern: &SparsityPattern, values: &[f64]) -> Result<(), String>;
+    /// The pattern changed: the next factorisation redoes the symbolic analysis (the time
+    /// counters keep running).
+    fn new_pattern(&mut self);
     /// Solve in place with the last factorisation.
     fn solve(&self, rhs: &mut [f64]);
     /// Seconds spent in symbolic analysis and in numeric factorisation so far.

@@ -110,7 +110,7 @@ mod tests {
                 }
             }
         }
-        let p = SparsityPattern::from_cliques(&dofs, n, cliques.iter().map(|c| c.as_slice()));
+        let p = SparsityPattern::from_cliques(&dofs, cliques.iter().map(|c| c.as_slice()));
         let perm = nested_dissection(&p, Ordering::Auto).expect("large enough for ND");
         let mut seen = perm.forward.clone();
         seen.sort_unstable();

@@ -1,5 +1,6 @@
 //! Time stepping: Newmark/DDA integration, co-rotation, adaptive step, the stepper.
 
+pub mod contact_pattern;
 pub mod corotation;
 pub mod integrator;
 pub mod step_control;

@@ -5,23 +5,21 @@
 //! symbolic analysis is reused), solve, judge the displacement ratio, and either accept
 //! (update positions, velocities, accelerations) or retry with a smaller Δt.
 
-use std::collections::BTreeSet;
 use std::time::Instant;
-
-use rustc_hash::FxHashMap;
 
 use nmm3d_geom::Vec3;
 
+use super::contact_pattern::ContactPattern;
 use super::corotation;
 use super::integrator::Newmark;
 use super::step_control::{self, Verdict};
-use crate::assembly::Assembler;
-use crate::contact::{overlap_problems, pair_clique, ContactParams, ContactSet};
+use crate::assembly::SparsityPattern;
+use crate::contact::{overlap_problems, ContactParams, ContactSet};
 use crate::error::{Error, Result};
 use crate::scenario::{AnalysisKind, Stiffness};
 use crate::solver::{FaerCholesky, LinearSolver};
 use crate::state::State;
-use crate::system::{pattern_and_mass, System};
+use crate::system::System;
 
 /// Diagnostics of one accepted step.
 #[derive(Debug, Clone, Copy, Default)]
@@ -53,19 +51,17 @@ pub struct PhaseTimes {
     pub solve: f64,
     /// Open–close iterations beyond the first (their factorisations and solves included).
     pub open_close: f64,
-    /// Sparsity pattern rebuilds for new contacting ME pairs (with their symbolic analysis).
+    /// Sparsity pattern growth for newly closed ME pairs (the symbolic analysis that follows
+    /// is counted with the factorisation).
     pub pattern: f64,
 }
 
 /// Orchestrates steps; owns the linear solver and work buffers.
 pub struct Stepper {
     solver: Box<dyn LinearSolver>,
-    assembler: Assembler,
-    mass_values: Vec<f64>,
+    /// Pattern, scatter maps and mass of the system matrix (grown by contacts).
+    pattern: ContactPattern,
     contacts: Option<ContactSet>,
-    contact_pairs: BTreeSet<(usize, usize)>,
-    /// Index of each ME pair among the pattern's extra cliques.
-    contact_slots: FxHashMap<(usize, usize), usize>,
     newmark: Newmark,
     tangent: Vec<f64>,
     values: Vec<f64>,
@@ -95,11 +91,8 @@ impl Stepper {
         }
         let mut stepper = Self {
             solver: Box::new(FaerCholesky::new(sys.scenario.analysis.ordering)),
-            assembler: sys.assembler.clone(),
-            mass_values: sys.mass_values.clone(),
+            pattern: ContactPattern::new(sys),
             contacts,
-            contact_pairs: BTreeSet::new(),
-            contact_slots: FxHashMap::default(),
             newmark: Newmark::from_analysis(&sys.scenario.analysis),
             tangent: vec![0.0; nnz],
             values: vec![0.0; nnz],
@@ -109,13 +102,18 @@ impl Stepper {
             penalty_raises: 0,
             times: PhaseTimes::default(),
         };
-        stepper.ensure_contact_pattern(sys);
+        stepper.ensure_contact_pattern(sys, 0);
         Ok(stepper)
     }
 
     /// The contact set (`None` without contact).
     pub fn contacts(&self) -> Option<&ContactSet> {
         self.contacts.as_ref()
+    }
+
+    /// Times the sparsity pattern grew for new contacts.
+    pub fn pattern_rebuilds(&self) -> u64 {
+        self.pattern.rebuilds
     }
 
     /// Symbolic and numeric factorisation seconds of the solver.
@@ -128,7 +126,7 @@ impl Stepper {
         let residual = self.assemble(sys, state);
         self.force_scale = scale(sys, &residual).max(scale(sys, &sys.external));
         if sys.scenario.analysis.kind == AnalysisKind::Dynamic && self.newmark.uses_acceleration() && sys.n_eq() > 0 {
-            self.solver.factorize(&self.assembler.pattern, &self.mass_values).map_err(|r| Error::Solver { step: 0, reason: r })?;
+            self.solver.factorize(&self.pattern.assembler.pattern, &self.pattern.mass_values).map_err(|r| Error::Solver { step: 0, reason: r })?;
             let mut rhs = gather(sys, &residual);
             self.solver.solve(&mut rhs);
             scatter_into(sys, &rhs, &mut state.a);
@@ -147,9 +145,7 @@ impl Stepper {
         if let Some(c) = self.contacts.as_mut() {
             c.detect(sys, state, false);
         }
-        let t = Instant::now();
-        self.ensure_contact_pattern(sys);
-        self.times.pattern += t.elapsed().as_secs_f64();
+        self.ensure_contact_pattern(sys, state.step);
         let t = Instant::now();
         let residual = self.assemble(sys, state);
         let unbalanced = match self.contacts.as_ref() {
@@ -262,11 +258,15 @@ impl Stepper {
     fn open_close(&mut self, sys: &System, state: &State, residual: &[Vec3], mv: &[Vec3], ma: &[Vec3], c0: f64, c1: f64, c2: f64) -> Result<(Vec<Vec3>, u32, bool)> {
         let max = sys.scenario.analysis.max_open_close;
         for it in 1..=max {
-            let clock = Instant::now();
+            let (clock, pattern) = (Instant::now(), self.times.pattern);
+            if it > 1 {
+                // A point that closed in the last solve may couple a pair the pattern lacks.
+                self.ensure_contact_pattern(sys, state.step);
+            }
             let d = self.solve_trial(sys, state, residual, mv, ma, c0, c1, c2)?;
             let changed = self.contacts.as_mut().map_or(0, |c| c.update_states(sys, &d));
             if it > 1 {
-                self.times.open_close += clock.elapsed().as_secs_f64();
+                self.times.open_close += clock.elapsed().as_secs_f64() - (self.times.pattern - pattern);
             }
             if changed == 0 {
                 return Ok((d, it, true));
@@ -278,38 +278,34 @@ impl Stepper {
         unreachable!("max_open_close ≥ 1")
     }
 
-    /// Make the sparsity pattern hold every coupling of the detected contacts (rebuilt, with a
-    /// new symbolic factorisation, only when a new pair of MEs comes into contact).
-    fn ensure_contact_pattern(&mut self, sys: &System) {
+    /// Make the sparsity pattern hold the couplings of every closed contact point (grown, with
+    /// a new symbolic factorisation, when a pair of MEs closes that it lacks; the tangent
+    /// assembled so far moves along).
+    fn ensure_contact_pattern(&mut self, sys: &System, step: u64) {
         let Some(c) = self.contacts.as_ref() else { return };
-        let pairs: BTreeSet<(usize, usize)> = c.records.iter().map(|r| (r.a.element.min(r.b.element), r.a.element.max(r.b.element))).collect();
-        if pairs.is_subset(&self.contact_pairs) {
-            return;
+        let t = Instant::now();
+        if let Some(map) = self.pattern.ensure(sys, &c.closed_pairs(), step) {
+            let pattern = &self.pattern.assembler.pattern;
+            self.tangent = SparsityPattern::embed(&self.tangent, &map, pattern);
+            self.values = vec![0.0; pattern.nnz()];
+            self.solver.new_pattern();
         }
-        self.contact_pairs.extend(pairs);
-        self.contact_slots = self.contact_pairs.iter().enumerate().map(|(k, &p)| (p, k)).collect();
-        let extra: Vec<Vec<usize>> = self.contact_pairs.iter().map(|&(a, b)| pair_clique(sys, a, b)).collect();
-        (self.assembler, self.mass_values) = pattern_and_mass(&sys.covers, &sys.dofs, &sys.kernels, &sys.kernel_of, &extra);
-        let nnz = self.assembler.pattern.nnz();
-        self.tangent = vec![0.0; nnz];
-        self.values = vec![0.0; nnz];
-        self.solver = Box::new(FaerCholesky::new(sys.scenario.analysis.ordering));
+        self.times.pattern += t.elapsed().as_secs_f64();
     }
 
     #[allow(clippy::too_many_arguments)] // the Newmark coefficients travel together with the vectors they scale
     fn solve_trial(&mut self, sys: &System, state: &State, residual: &[Vec3], mv: &[Vec3], ma: &[Vec3], c0: f64, c1: f64, c2: f64) -> Result<Vec<Vec3>> {
         let t = Instant::now();
-        for ((v, k), m) in self.values.iter_mut().zip(&self.tangent).zip(&self.mass_values) {
+        for ((v, k), m) in self.values.iter_mut().zip(&self.tangent).zip(&self.pattern.mass_values) {
             *v = k + c0 * m;
         }
         let mut contact_force = vec![Vec3::zeros(); residual.len()];
         if let Some(c) = self.contacts.as_ref() {
-            let n_elements = sys.covers.elements.len();
-            let slots = &self.contact_slots;
-            c.assemble(sys, &mut contact_force, &self.assembler, |pair| n_elements + slots[&pair], &mut self.values);
+            let pattern = &self.pattern;
+            c.assemble(sys, &mut contact_force, &pattern.assembler.pattern, |pair| pattern.coupling(pair), &mut self.values);
         }
         self.solver
-            .factorize(&self.assembler.pattern, &self.values)
+            .factorize(&self.pattern.assembler.pattern, &self.values)
             .map_err(|r| Error::Solver { step: state.step + 1, reason: r })?;
         self.times.factorization += t.elapsed().as_secs_f64();
         let t = Instant::now();
@@ -351,7 +347,7 @@ impl Stepper {
             let r = corotation::rotation(&f, &state.rotations[e]);
             state.rotations[e] = r;
             let (fint, t) = corotation::internal_force_and_tangent(sys, state, e, &r);
-            self.assembler.add(&mut self.tangent, e, &t);
+            self.pattern.assembler.add(&mut self.tangent, e, &t);
             for (a, &c) in sys.covers.elements[e].covers.iter().enumerate() {
                 residual[c] -= fint[a];
             }
@@ -381,7 +377,7 @@ impl Stepper {
                     }
                 }
             }
-            self.assembler.add(&mut self.tangent, p.element, &local);
+            self.pattern.assembler.add(&mut self.tangent, p.element, &local);
         }
     }
 }

@@ -1,0 +1,145 @@
+//! Scatter of a coupling between arbitrary covers — the two MEs of a contact — into the global
+//! pattern. A contact point's matrix is w wᵀ ⊗ B over the covers of both MEs (w the
+//! shape-function values, B 3 × 3): tied covers fold into their masters' weights (Tᵀ w) before
+//! the product and fixed covers drop out, so the sum over a pair's points lives on the pair's
+//! free nodes and is scattered with one offset per pair of nodes (the pattern's block layout).
+
+use super::dof_map::{CoverDofs, DofMap};
+use super::sparsity::SparsityPattern;
+
+/// The scatter of one clique of covers.
+#[derive(Debug, Clone)]
+pub struct Coupling {
+    /// Equation block (first equation / 3) of each node: the free covers and the free masters
+    /// of the tied ones.
+    blocks: Vec<u32>,
+    /// (cover position, node, weight): a cover's value goes to the node times the weight.
+    spread: Vec<(u32, u32, f64)>,
+    /// Per node pair (p, q), row-major: offset of row 3·block[p] in column 3·block[q] when
+    /// block[p] ≥ block[q] (the pattern's lower triangle), else `UPPER`.
+    offsets: Vec<u32>,
+}
+
+const UPPER: u32 = u32::MAX;
+
+impl Coupling {
+    /// The scatter of `covers` into `pattern`, which must couple all their free nodes.
+    pub fn new(pattern: &SparsityPattern, dofs: &DofMap, covers: &[usize]) -> Self {
+        let mut nodes: Vec<usize> = Vec::new();
+        let mut spread = Vec::new();
+        let node_of = |c: usize, nodes: &mut Vec<usize>| match nodes.iter().position(|&x| x == c) {
+            Some(k) => k as u32,
+            None => {
+                nodes.push(c);
+                (nodes.len() - 1) as u32
+            }
+        };
+        for (a, &c) in covers.iter().enumerate() {
+            match &dofs.kind[c] {
+                CoverDofs::Free(_) => spread.push((a as u32, node_of(c, &mut nodes), 1.0)),
+                CoverDofs::Tied(masters) => spread.extend(masters.iter().map(|&(m, w)| (a as u32, node_of(m, &mut nodes), w))),
+                CoverDofs::Fixed => {}
+            }
+        }
+        let blocks: Vec<u32> = nodes.iter().map(|&c| (dofs.eq(c, 0).expect("nodes are free") / 3) as u32).collect();
+        let offsets = blocks
+            .iter()
+            .flat_map(|&p| blocks.iter().map(move |&q| (p, q)))
+            .map(|(p, q)| if p >= q { pattern.block_offset(p as usize, q as usize).expect("the pattern holds the coupling") } else { UPPER })
+            .collect();
+        Self { blocks, spread, offsets }
+    }
+
+    /// Number of nodes m.
+    pub fn nodes(&self) -> usize {
+        self.blocks.len()
+    }
+
+    /// Per-node weights Tᵀ w from per-cover weights `w` (written to `out`, length m).
+    pub fn node_weights(&self, w: &[f64], out: &mut Vec<f64>) {
+        out.clear();
+        out.resize(self.nodes(), 0.0);
+        for &(a, p, t) in &self.spread {
+            out[p as usize] += t * w[a as usize];
+        }
+    }
+
+    /// values += local, a symmetric (3m)² row-major matrix over the nodes (its lower part is read).
+    pub fn add(&self, pattern: &SparsityPattern, values: &mut [f64], local: &[f64]) {
+        let m = self.nodes();
+        for p in 0..m {
+            for q in 0..m {
+                let off = self.offsets[p * m + q];
+                if off == UPPER {
+                    continue;
+                }
+                let (bq, diagonal) = (self.blocks[q] as usize, p == q);
+                for j in 0..3 {
+                    let start = pattern.col_ptr[3 * bq + j] as usize + off as usize;
+                    for i in (0..3).filter(|&i| !diagonal || i >= j) {
+                        values[start + i - j] += local[(3 * p + i) * 3 * m + 3 * q + j];
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Dense lower triangle of a pattern's values.
+    fn dense(p: &SparsityPattern, values: &[f64]) -> Vec<Vec<f64>> {
+        let mut d = vec![vec![0.0; p.n]; p.n];
+        for col in 0..p.n {
+            for k in p.col_ptr[col] as usize..p.col_ptr[col + 1] as usize {
+                d[p.row_idx[k] as usize][col] = values[k];
+            }
+        }
+        d
+    }
+
+    #[test]
+    fn outer_product_lands_on_the_free_and_master_equations() {
+        // Covers 0, 1, 3 free; 2 fixed; 4 tied to ½ (0 + 3).
+        let tied = vec![None, None, None, None, Some(vec![(0, 0.5), (3, 0.5)])];
+        let dofs = DofMap::new(&[false, false, true, false, false], &tied);
+        let clique = [3usize, 2, 4, 1];
+        let masters = [3usize, 0, 1];
+        let p = SparsityPattern::from_cliques(&dofs, [&masters[..]].into_iter());
+        let c = Coupling::new(&p, &dofs, &clique);
+        assert_eq!(c.nodes(), 3);
+        let w = [0.4, 0.7, -0.2, 1.0];
+        let mut wm = Vec::new();
+        c.node_weights(&w, &mut wm);
+        let b = [[2.0, 0.5, 0.1], [0.5, 3.0, 0.2], [0.1, 0.2, 4.0]];
+        let m = c.nodes();
+        let mut local = vec![0.0; 9 * m * m];
+        for (a, wa) in wm.iter().enumerate() {
+            for (bn, wb) in wm.iter().enumerate() {
+                for i in 0..3 {
+                    for j in 0..3 {
+                        local[(3 * a + i) * 3 * m + 3 * bn + j] = wa * wb * b[i][j];
+                    }
+                }
+            }
+        }
+        let mut values = vec![0.0; p.nnz()];
+        c.add(&p, &mut values, &local);
+        // Expected: per free cover, its total weight (cover 4's weight split onto 0 and 3).
+        let mut weq = vec![0.0; dofs.n_eq / 3];
+        for (&cv, &wc) in clique.iter().zip(&w) {
+            for (mc, t) in dofs.masters(cv) {
+                weq[dofs.eq(mc, 0).expect("free") / 3] += t * wc;
+            }
+        }
+        let d = dense(&p, &values);
+        for r in 0..p.n {
+            for col in 0..=r {
+                let expected = weq[r / 3] * weq[col / 3] * b[r % 3][col % 3];
+                assert!((d[r][col] - expected).abs() < 1e-14, "({r}, {col}): {} vs {expected}", d[r][col]);
+            }
+        }
+    }
+}
