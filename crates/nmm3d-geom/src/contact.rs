@@ -61,31 +61,74 @@ pub struct Contact {
     pub area: f64,
 }
 
-/// Distinct vertices and edges of a convex polyhedron.
-fn vertices_edges(p: &ConvexPolyhedron) -> (Vec<Vec3>, Vec<(usize, usize)>) {
-    let verts = p.vertices();
-    let tol = 1e-12 * p.aabb().diagonal();
-    let id = |x: &Vec3| verts.iter().position(|w| (w - x).norm() <= tol).expect("a face vertex is a vertex");
-    let mut edges = Vec::new();
-    for f in &p.faces {
-        for i in 0..f.vertices.len() {
-            let (a, b) = (id(&f.vertices[i]), id(&f.vertices[(i + 1) % f.vertices.len()]));
-            let e = (a.min(b), a.max(b));
-            if a != b && !edges.contains(&e) {
-                edges.push(e);
+/// A piece prepared for detection: its distinct vertices, faces (vertex indices), edges,
+/// centroid and outward unit face normals — computed once per piece, not once per pair it is in.
+#[derive(Debug, Clone)]
+pub struct Prepared {
+    vertices: Vec<Vec3>,
+    faces: Vec<Vec<usize>>,
+    edges: Vec<Edge>,
+    centroid: Vec3,
+    normals: Vec<Vec3>,
+}
+
+/// An edge: its two vertices and the two faces meeting there.
+#[derive(Debug, Clone, Copy)]
+struct Edge {
+    ends: (usize, usize),
+    faces: (usize, usize),
+}
+
+impl Prepared {
+    /// Prepare a convex polyhedron.
+    pub fn new(p: &ConvexPolyhedron) -> Self {
+        let vertices = p.vertices();
+        let tol = 1e-12 * p.aabb().diagonal();
+        let id = |x: &Vec3| vertices.iter().position(|w| (w - x).norm() <= tol).expect("a face vertex is a vertex");
+        let faces: Vec<Vec<usize>> = p.faces.iter().map(|f| f.vertices.iter().map(id).collect()).collect();
+        let mut edges: Vec<Edge> = Vec::new();
+        for (fi, f) in faces.iter().enumerate() {
+            for i in 0..f.len() {
+                let (a, b) = (f[i], f[(i + 1) % f.len()]);
+                let ends = (a.min(b), a.max(b));
+                if a == b {
+                    continue;
+                }
+                match edges.iter_mut().find(|e| e.ends == ends) {
+                    Some(e) => e.faces.1 = fi,
+                    None => edges.push(Edge { ends, faces: (fi, fi) }),
+                }
             }
         }
+        let centroid = vertices.iter().sum::<Vec3>() / vertices.len() as f64;
+        let normals = p.faces.iter().map(|f| f.area_vector().normalize()).collect();
+        Self { vertices, faces, edges, centroid, normals }
     }
-    (verts, edges)
+}
+
+/// Whether edge `ea` of A and edge `eb` of B build a face of the Minkowski difference A − B:
+/// the arcs of their adjacent face normals cross on the Gauss map (normals of B negated).
+/// Gregorius, "The Separating Axis Test between Convex Polyhedra", GDC 2013.
+fn minkowski_face(a: &Prepared, ea: &Edge, b: &Prepared, eb: &Edge) -> bool {
+    let (u1, u2) = (a.normals[ea.faces.0], a.normals[ea.faces.1]);
+    let (v1, v2) = (-b.normals[eb.faces.0], -b.normals[eb.faces.1]);
+    let (u_arc, v_arc) = (u2.cross(&u1), v2.cross(&v1));
+    let (cba, dba) = (v1.dot(&u_arc), v2.dot(&u_arc));
+    let (adc, bdc) = (u1.dot(&v_arc), u2.dot(&v_arc));
+    cba * dba < 0.0 && adc * bdc < 0.0 && cba * bdc > 0.0
 }
 
 fn support(points: &[Vec3], n: &Vec3) -> (f64, f64) {
     points.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(n.dot(v)), hi.max(n.dot(v))))
 }
 
-/// Separations within this fraction of the coordinates' scale count as equal when the plane
-/// is chosen (face normals are tried first).
+/// Separations within this fraction of the coordinates' scale (at least within the support
+/// tolerance) count as equal when the plane is chosen (face normals are tried first).
 const FACE_PREFERENCE: f64 = 1e-9;
+
+/// How much deeper than the least-penetrating plane, in support tolerances, a plane may be
+/// and still be tried when the supports on the better planes do not overlap.
+const FALLBACK_DEPTH: f64 = 10.0;
 
 /// Tolerances of [`detect`] [m].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -101,36 +144,77 @@ pub struct DetectParams {
 
 /// The least-penetrating contact plane and its points, or `None` beyond the margin.
 pub fn detect(a: &ConvexPolyhedron, b: &ConvexPolyhedron, params: &DetectParams) -> Option<Contact> {
+    detect_prepared(&Prepared::new(a), &Prepared::new(b), params)
+}
+
+/// [`detect`] on prepared pieces.
+pub fn detect_prepared(a: &Prepared, b: &Prepared, params: &DetectParams) -> Option<Contact> {
     let (margin, support_tolerance) = (params.margin, params.support_tolerance);
-    let (va, ea) = vertices_edges(a);
-    let (vb, eb) = vertices_edges(b);
-    let ca: Vec3 = va.iter().sum::<Vec3>() / va.len() as f64;
-    let cb: Vec3 = vb.iter().sum::<Vec3>() / vb.len() as f64;
-    let mut axes: Vec<Vec3> = Vec::new();
-    axes.extend(b.faces.iter().map(|f| f.area_vector().normalize()));
-    axes.extend(a.faces.iter().map(|f| -f.area_vector().normalize()));
-    for &(i, j) in &ea {
-        for &(k, l) in &eb {
+    let (va, vb) = (&a.vertices, &b.vertices);
+    let mut axes: Vec<Vec3> = Vec::with_capacity(a.normals.len() + b.normals.len() + a.edges.len() * b.edges.len());
+    axes.extend(b.normals.iter().copied());
+    axes.extend(a.normals.iter().map(|n| -n));
+    for ea in &a.edges {
+        for eb in &b.edges {
+            // Only edge pairs forming a face of the Minkowski difference give an axis: the others
+            // point where neither edge meets the other piece, and would pick a plane on which
+            // the two supports do not overlap (no contact point at all).
+            if !minkowski_face(a, ea, b, eb) {
+                continue;
+            }
+            let ((i, j), (k, l)) = (ea.ends, eb.ends);
             let n = (va[j] - va[i]).cross(&(vb[l] - vb[k]));
             if n.norm() > 1e-9 * (va[j] - va[i]).norm() * (vb[l] - vb[k]).norm() {
                 let n = n.normalize();
-                axes.push(if n.dot(&(ca - cb)) >= 0.0 { n } else { -n });
+                axes.push(if n.dot(&(a.centroid - b.centroid)) >= 0.0 { n } else { -n });
             }
         }
     }
-    let separation = |n: &Vec3| support(&va, n).0 - support(&vb, n).1;
-    let seps: Vec<f64> = axes.iter().map(separation).collect();
+    let separation = |n: &Vec3| support(va, n).0 - support(vb, n).1;
+    let mut seps: Vec<f64> = Vec::with_capacity(axes.len());
+    for n in &axes {
+        let s = separation(n);
+        if s > margin {
+            return None; // the largest separation is beyond the margin too
+        }
+        seps.push(s);
+    }
     let top = seps.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    // Ties go to the first axis within round-off of the best, and face normals come first:
-    // two blocks meeting on a face must not be given an edge–edge plane through that face.
-    let tie = FACE_PREFERENCE * va.iter().chain(&vb).map(|x| x.norm()).fold(1.0, f64::max);
+    // Ties go to the first axis within the support tolerance of the best, and face normals come
+    // first: two blocks meeting on a face must not be given an edge–edge plane through that face
+    // (an edge of A lying on a face of B gives an edge–edge axis within round-off, or within the
+    // slight misalignment of deformed pieces, of B's face normal).
+    let tie = (FACE_PREFERENCE * va.iter().chain(vb).map(|x| x.norm()).fold(1.0, f64::max)).max(support_tolerance);
     let k = seps.iter().position(|&s| s >= top - tie).unwrap_or(0);
-    let (best, sep) = (axes.get(k).copied().unwrap_or(Vec3::z()), seps.get(k).copied().unwrap_or(top));
-    if sep > margin {
+    if axes.is_empty() || seps[k] > margin {
         return None;
     }
-    let (points, area) = contact_points(&va, &vb, &best, support_tolerance);
-    Some(Contact { normal: best, separation: sep, points: thin(points, params.thin_distance), area })
+    // Deformed pieces are convex only nearly: the supports on the least-penetrating plane may
+    // miss each other by a fraction of a millimetre (a corner just short of an edge) while the
+    // pieces overlap. Then the next planes, at most `FALLBACK_DEPTH` support tolerances deeper,
+    // are tried in order: a contact within the margin must not be left without points.
+    let mut order: Vec<usize> = (0..axes.len()).filter(|&m| m != k && seps[m] >= top - FALLBACK_DEPTH * support_tolerance).collect();
+    order.sort_by(|&p, &q| seps[q].total_cmp(&seps[p]));
+    let mut first = None;
+    for m in std::iter::once(k).chain(order) {
+        let c = contact_on_axis(a, b, m, axes[m], seps[m], params);
+        if !c.points.is_empty() {
+            return Some(c);
+        }
+        first.get_or_insert(c);
+    }
+    first
+}
+
+/// The contact on candidate axis `m` (an index into B's face normals, then A's, then edge pairs).
+fn contact_on_axis(a: &Prepared, b: &Prepared, m: usize, normal: Vec3, separation: f64, params: &DetectParams) -> Contact {
+    // A plane given by a face: that whole face is its piece's support, however far from flat
+    // the deformed face is (its vertices need not all lie within the support tolerance).
+    let (nb, na) = (b.normals.len(), a.normals.len());
+    let face_b = (m < nb).then(|| b.faces[m].as_slice());
+    let face_a = (nb <= m && m < nb + na).then(|| a.faces[m - nb].as_slice());
+    let (points, area) = contact_points((&a.vertices, face_a), (&b.vertices, face_b), &normal, params.support_tolerance);
+    Contact { normal, separation, points: thin(points, params.thin_distance), area }
 }
 
 /// Merge points closer than `d`, keeping the deeper of each pair (order of first appearance).
@@ -175,12 +259,19 @@ fn hull(points: &[Vec3], n: &Vec3) -> Vec<Vec3> {
     p
 }
 
-/// The contact points and the overlap area.
-fn contact_points(va: &[Vec3], vb: &[Vec3], n: &Vec3, tol: f64) -> (Vec<ContactPoint>, f64) {
+/// The contact points and the overlap area. Each side's support is its face giving the plane,
+/// if any, else its vertices within `tol` of its extreme level along n.
+fn contact_points((va, face_a): (&[Vec3], Option<&[usize]>), (vb, face_b): (&[Vec3], Option<&[usize]>), n: &Vec3, tol: f64) -> (Vec<ContactPoint>, f64) {
     let (lo_a, _) = support(va, n);
     let (_, hi_b) = support(vb, n);
-    let sa: Vec<Vec3> = va.iter().filter(|v| n.dot(v) <= lo_a + tol).copied().collect();
-    let sb: Vec<Vec3> = vb.iter().filter(|v| n.dot(v) >= hi_b - tol).copied().collect();
+    let sa: Vec<Vec3> = match face_a {
+        Some(f) => f.iter().map(|&i| va[i]).collect(),
+        None => va.iter().filter(|v| n.dot(v) <= lo_a + tol).copied().collect(),
+    };
+    let sb: Vec<Vec3> = match face_b {
+        Some(f) => f.iter().map(|&i| vb[i]).collect(),
+        None => vb.iter().filter(|v| n.dot(v) >= hi_b - tol).copied().collect(),
+    };
     // Work in the plane through the origin: flat copies, heights kept separately.
     let flat = |v: &Vec3| v - n * n.dot(v);
     let ha = hull(&sa.iter().map(flat).collect::<Vec<_>>(), n);
@@ -380,6 +471,107 @@ mod tests {
         assert_eq!(c.points[0].mode, Mode::EdgeEdge);
         assert!((c.points[0].gap + 0.001).abs() < 1e-9);
         assert!((c.normal - Vec3::z()).norm() < 1e-9);
+    }
+
+    /// A reference box with its vertices moved to `current` (in the order of `vertices()`).
+    fn deformed(reference: ConvexPolyhedron, current: &[[f64; 3]]) -> ConvexPolyhedron {
+        let refs = reference.vertices();
+        reference.map(|x| {
+            let k = refs.iter().position(|r| (r - x).norm() < 1e-12).expect("a vertex");
+            Vec3::from(current[k])
+        })
+    }
+
+    #[test]
+    fn a_warped_face_still_meets_the_edge_pressing_on_it() {
+        // Two tipped dominos (0.1 × 0.4 × 1 m) from a two-end run, as deformed boxes: B's top
+        // edge presses on A's face, which is out of plane by more than the support tolerance,
+        // so A's vertices at its lowest level along the normal lie away from B's edge. The
+        // contact must still have points, or the pieces pass through each other.
+        let a = deformed(
+            ConvexPolyhedron::from_box(Vec3::new(3.0, 0.0, 0.0), Vec3::new(3.1, 0.4, 1.0)),
+            &[
+                [3.0000483225466272, 0.00015626848217371663, 3.726996282332984e-5],
+                [2.236751442043936, -0.000871569394798676, 0.6460979852232005],
+                [2.236272285098666, 0.39912736482870986, 0.6461836319360568],
+                [2.9995205877118742, 0.4001546106574536, 5.4281103885819825e-5],
+                [3.064652219307988, 0.00023696373680563286, 0.0763683288787361],
+                [3.064127516848026, 0.4002369305975589, 0.07638270452648994],
+                [2.3008869423219664, 0.3991903035393516, 0.7225036051162467],
+                [2.3013612379169945, -0.0008105724270106356, 0.7224242737257767],
+            ],
+        );
+        let b = deformed(
+            ConvexPolyhedron::from_box(Vec3::new(2.5, 0.0, 0.0), Vec3::new(2.6, 0.4, 1.0)),
+            &[
+                [2.4936978227739868, 1.528007071367554e-5, -1.0192670490805508e-7],
+                [1.993878633989234, 6.583029577021847e-5, 0.8661282660218974],
+                [1.993908708625231, 0.40006871837137137, 0.8661210158940632],
+                [2.493739698441877, 0.40001724132653077, -1.134497036642743e-7],
+                [2.580315124813464, 6.334598892150908e-6, 0.0499756898791135],
+                [2.5803561998959155, 0.40000811502430766, 0.04997642317960749],
+                [2.080523424279209, 0.40006011181494266, 0.916100531653525],
+                [2.0804931428777698, 6.332253763041004e-5, 0.9161081355131595],
+            ],
+        );
+        let c = detect(&a, &b, &DetectParams { margin: 0.0101, support_tolerance: 1e-4, thin_distance: 1e-3 }).expect("within the margin");
+        assert!(c.separation < 0.0, "they overlap: {}", c.separation);
+        assert!(!c.points.is_empty(), "no contact points on plane {:?}", c.normal);
+        let deepest = c.points.iter().map(|p| p.gap).fold(f64::INFINITY, f64::min);
+        assert!((deepest - c.separation).abs() < 2e-4, "deepest point {deepest} vs separation {}", c.separation);
+    }
+
+    #[test]
+    fn a_cube_on_a_twisted_face_touches_over_its_whole_base() {
+        // A slab whose top face is twisted by ±0.5 mm at its corners (far beyond the support
+        // tolerance): its highest vertices are two opposite corners, away from the cube. The
+        // face giving the plane is the support as a whole, so the cube's base meets it.
+        let w = 5e-4;
+        let slab = ConvexPolyhedron::from_box(Vec3::new(-1.0, -1.0, -0.5), Vec3::new(1.0, 1.0, 0.0))
+            .map(|x| if x.z == 0.0 { Vec3::new(x.x, x.y, w * x.x.signum() * x.y.signum()) } else { *x });
+        let c = detect(&cube(Vec3::new(0.7, -0.7, 0.1 - 2e-4), 0.2), &slab, &DetectParams { margin: 0.01, support_tolerance: 1e-4, thin_distance: 1e-3 }).expect("touching");
+        assert!((c.normal - Vec3::z()).norm() < 1e-3, "{:?}", c.normal);
+        assert_eq!(count(&c, Mode::VertexOfA), 4, "{:?}", c.points);
+        assert!(c.points.iter().all(|p| p.gap < 0.0 && p.gap > -2e-4 - w), "{:?}", c.points);
+    }
+
+    #[test]
+    fn a_corner_driven_into_a_face_gives_a_point() {
+        // Two dominos from a two-end run meeting top to top: a top corner of A is driven into
+        // the upper part of B's face (deformed boxes as in the run).
+        let a = deformed(
+            ConvexPolyhedron::from_box(Vec3::new(2.5, 0.0, 0.0), Vec3::new(2.6, 0.4, 1.0)),
+            &[
+                [2.4940698596833406, 2.9445177722291965e-5, -7.486392809888382e-7],
+                [1.9315367807334616, -0.0007353289563163735, 0.8270908580481733],
+                [1.9295922696927623, 0.39940484726885733, 0.825908352206083],
+                [2.4937172082426042, 0.40003479720961943, -1.122401968596495e-6],
+                [2.576544017583669, 0.00011238034317430725, 0.05651986598520236],
+                [2.5762041045998356, 0.4001107378022789, 0.05650305547618939],
+                [2.01232011625685, 0.3998051784166048, 0.8820878395833291],
+                [2.014307874052098, -0.00010732297372067199, 0.8829253040677545],
+            ],
+        );
+        let b = deformed(
+            ConvexPolyhedron::from_box(Vec3::new(2.0, 0.0, 0.0), Vec3::new(2.1, 0.4, 1.0)),
+            &[
+                [1.991193350013307, -7.823790365147525e-5, -2.456494274036676e-7],
+                [1.7998594720417431, 0.00015292116064123998, 0.9814931159827066],
+                [1.801166811009167, 0.4000855601971445, 0.981736761386054],
+                [1.991104834763085, 0.39994949624551995, -2.952799262323028e-7],
+                [2.0893638650240827, -4.291417027039606e-5, 0.019008633799941506],
+                [2.089280704934643, 0.3999487843517086, 0.01897388601517551],
+                [1.899332936006871, 0.3998165862671024, 1.0008047408843046],
+                [1.8980288431393872, -0.00024698527256018375, 1.0005667486004202],
+            ],
+        );
+        let c = detect(&a, &b, &DetectParams { margin: 0.0101, support_tolerance: 1e-4, thin_distance: 1e-3 }).expect("within the margin");
+        assert!(c.separation < 0.0, "they overlap: {}", c.separation);
+        assert!(!c.points.is_empty(), "no contact points on plane {:?}", c.normal);
+        // The face is out of plane by a few tenths of a millimetre: the point's gap (from the
+        // face's mean plane) is the overlap to within that.
+        let deepest = c.points.iter().map(|p| p.gap).fold(f64::INFINITY, f64::min);
+        assert!((deepest - c.separation).abs() < 5e-4, "deepest point {deepest} vs separation {}", c.separation);
     }
 
     #[test]

@@ -19,7 +19,6 @@ use nmm3d_geom::Vec3;
 
 use super::surface::{barycentric, MaterialPoint};
 use crate::model::tags;
-use crate::state::State;
 use crate::system::System;
 
 /// One boundary face of one ME.
@@ -68,26 +67,24 @@ pub fn facets_of_piece(sys: &System, block: usize, piece: &nmm3d_geom::ConvexPol
     out
 }
 
-/// Facets of a piece facing along `outward` whose every vertex lies within `tol` of the level
-/// `level` (n·x), with their current vertex positions.
-fn on_level<'a>(sys: &System, state: &State, facets: &'a [Facet], n: &Vec3, level: f64, outward: f64, tol: f64) -> Vec<(&'a Facet, Vec<Vec3>)> {
+/// Facets of a piece (with their current vertices `x`) facing along `outward` whose every
+/// vertex lies within `tol` of the level `level` (n·x).
+fn on_level<'a>(facets: &'a [Facet], x: &'a [Vec<Vec3>], n: &Vec3, level: f64, outward: f64, tol: f64) -> Vec<(&'a Facet, &'a [Vec3])> {
     facets
         .iter()
-        .filter_map(|f| {
-            let x: Vec<Vec3> = f.vertices.iter().map(|m| m.position(sys, state)).collect();
-            let flat = x.iter().all(|p| (n.dot(p) - level).abs() <= tol);
-            (flat && outward * polygon::area_vector(&x).dot(n) > 0.0).then_some((f, x))
-        })
+        .zip(x)
+        .filter(|(_, x)| x.iter().all(|p| (n.dot(p) - level).abs() <= tol) && outward * polygon::area_vector(x).dot(n) > 0.0)
+        .map(|(f, x)| (f, x.as_slice()))
         .collect()
 }
 
 /// Contact points of a face-to-face contact with normal `n` (from B to A) on the facets of A
-/// (`fa`) and B (`fb`); empty when either side has no facet on the contact plane (a vertex or
-/// an edge meets a face: the piece-level points stand).
-#[allow(clippy::too_many_arguments)] // the two sides and the plane travel together
-pub fn overlay(sys: &System, state: &State, fa: &[Facet], fb: &[Facet], n: &Vec3, level_a: f64, level_b: f64, tol: f64, merge: f64) -> Vec<Candidate> {
-    let sa = on_level(sys, state, fa, n, level_a, -1.0, tol);
-    let sb = on_level(sys, state, fb, n, level_b, 1.0, tol);
+/// and of B (each with their current vertices), A's lowest and B's highest level along `n`;
+/// empty when either side has no facet on the contact plane (a vertex or an edge meets a face:
+/// the piece-level points stand).
+pub fn overlay(sys: &System, (fa, xa): (&[Facet], &[Vec<Vec3>]), (fb, xb): (&[Facet], &[Vec<Vec3>]), n: &Vec3, (level_a, level_b): (f64, f64), tol: f64, merge: f64) -> Vec<Candidate> {
+    let sa = on_level(fa, xa, n, level_a, -1.0, tol);
+    let sb = on_level(fb, xb, n, level_b, 1.0, tol);
     if sa.is_empty() || sb.is_empty() {
         return Vec::new();
     }

@@ -27,12 +27,13 @@ pub mod broad;
 pub mod facets;
 pub mod surface;
 
+use std::sync::OnceLock;
 use std::time::Instant;
 
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
-use nmm3d_geom::contact::{detect, Contact, DetectParams, Mode};
+use nmm3d_geom::contact::{detect_prepared, Contact, DetectParams, Mode, Prepared};
 use nmm3d_geom::ConvexPolyhedron;
 use nmm3d_geom::{Mat3, Vec3};
 
@@ -196,7 +197,7 @@ impl ContactSet {
     /// traction and the joint's bond.
     pub fn detect(&mut self, sys: &System, state: &State, initial: bool) {
         let clock = Instant::now();
-        let current: Vec<_> = self.pieces.iter().map(|p| p.current(sys, state)).collect();
+        let current: Vec<_> = self.pieces.par_iter().map(|p| p.current(sys, state)).collect();
         let p = self.params;
         let dp = DetectParams { margin: p.margin, support_tolerance: p.tolerance, thin_distance: 10.0 * p.tolerance };
         let pieces = &self.pieces;
@@ -204,13 +205,18 @@ impl ContactSet {
         let pairs = self.warning.update(&current, p.margin, p.skin, keep);
         self.times.warning += clock.elapsed().as_secs_f64();
         let clock = Instant::now();
+        let prepared: Vec<Prepared> = current.par_iter().map(Prepared::new).collect();
+        // Current facet vertices, once per piece and only for pieces in a detected pair.
+        let facets: Vec<OnceLock<Vec<Vec<Vec3>>>> = pieces.iter().map(|_| OnceLock::new()).collect();
+        let facets_of = |k: usize| facets[k].get_or_init(|| pieces[k].facet_positions(sys, state)).as_slice();
         // A is the piece of the higher block index.
         let found: Vec<(usize, usize, Vec3, Vec<Candidate>)> = pairs
             .par_iter()
             .map(|&(i, j)| if pieces[i].block > pieces[j].block { (i, j) } else { (j, i) })
             .filter_map(|(i, j)| {
-                let c = detect(&current[i], &current[j], &dp)?;
-                Some((i, j, c.normal, candidates(sys, state, (&pieces[i], &pieces[j]), (&current[i], &current[j]), &c, p.tolerance)))
+                let c = detect_prepared(&prepared[i], &prepared[j], &dp)?;
+                let on = Surfaces { pieces: (&pieces[i], &pieces[j]), current: (&current[i], &current[j]), facets: (facets_of(i), facets_of(j)) };
+                Some((i, j, c.normal, candidates(sys, &on, &c, p.tolerance)))
             })
             .collect();
         let previous = std::mem::take(&mut self.records);
@@ -446,13 +452,22 @@ fn both_fixed(sys: &System, a: usize, b: usize) -> bool {
     sys.geometry.blocks[a].fixed && sys.geometry.blocks[b].fixed
 }
 
+/// The two sides (A, B) of a detected pair: pieces, their current geometry and the current
+/// vertices of their facets.
+struct Surfaces<'a> {
+    pieces: (&'a ContactPiece, &'a ContactPiece),
+    current: (&'a ConvexPolyhedron, &'a ConvexPolyhedron),
+    facets: (&'a [Vec<Vec3>], &'a [Vec<Vec3>]),
+}
+
 /// Contact point candidates of a detected pair: on the facets for a face-to-face contact, else
 /// the piece-level points (area shared equally).
-fn candidates(sys: &System, state: &State, (pa, pb): (&ContactPiece, &ContactPiece), (ca, cb): (&ConvexPolyhedron, &ConvexPolyhedron), c: &Contact, tol: f64) -> Vec<Candidate> {
+fn candidates(sys: &System, on: &Surfaces, c: &Contact, tol: f64) -> Vec<Candidate> {
+    let ((pa, pb), (ca, cb)) = (on.pieces, on.current);
     let n = c.normal;
     let level = |p: &ConvexPolyhedron, f: fn(f64, f64) -> f64, init: f64| p.faces.iter().flat_map(|x| x.vertices.iter()).map(|v| n.dot(v)).fold(init, f);
     let (level_a, level_b) = (level(ca, f64::min, f64::INFINITY), level(cb, f64::max, f64::NEG_INFINITY));
-    let on_facets = facets::overlay(sys, state, &pa.facets, &pb.facets, &n, level_a, level_b, tol, MERGE * tol);
+    let on_facets = facets::overlay(sys, (&pa.facets, on.facets.0), (&pb.facets, on.facets.1), &n, (level_a, level_b), tol, MERGE * tol);
     if !on_facets.is_empty() {
         return on_facets;
     }

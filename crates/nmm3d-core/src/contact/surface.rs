@@ -76,6 +76,11 @@ impl ContactPiece {
         ConvexPolyhedron { faces: self.faces.iter().map(|(ids, tag)| Face { vertices: ids.iter().map(|&i| x[i]).collect(), tag: *tag }).collect() }
     }
 
+    /// Current vertices of every facet.
+    pub fn facet_positions(&self, sys: &System, state: &State) -> Vec<Vec<Vec3>> {
+        self.facets.iter().map(|f| f.vertices.iter().map(|m| m.position(sys, state)).collect()).collect()
+    }
+
     /// Reference position of a point `p` lying on the current surface `cur` (the same affine
     /// combination of a face triangle's vertices, taken in the reference configuration).
     pub fn reference_of(&self, cur: &ConvexPolyhedron, p: &Vec3) -> Vec3 {

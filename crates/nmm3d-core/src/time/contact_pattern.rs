@@ -4,11 +4,14 @@
 //! not closed for [`RETAIN_STEPS`] steps are dropped at the next growth, so the fill follows the
 //! contacts of the moment: open points near each other (side faces of neighbouring blocks
 //! within the detection margin) add no stiffness and would only add fill.
+//!
+//! The elastic tangent and the mass stay on the elements' pattern (their scatter maps never
+//! change); each matrix to factorise is gathered onto the current pattern through one map.
 
 use rustc_hash::FxHashMap;
 
 use crate::assembly::assembler::masters_of;
-use crate::assembly::{Assembler, Coupling, SparsityPattern};
+use crate::assembly::{Coupling, SparsityPattern};
 use crate::contact::pair_clique;
 use crate::system::System;
 
@@ -16,57 +19,72 @@ use crate::system::System;
 /// recently (rocking, bouncing) likely touches again, and keeping it spares a symbolic analysis.
 pub const RETAIN_STEPS: u64 = 50;
 
-/// Pattern, element scatter, mass and contact couplings of the current system matrix.
+/// The current pattern and the contact couplings on it.
+#[derive(Default)]
 pub struct ContactPattern {
-    /// Element scatter maps onto the current pattern.
-    pub assembler: Assembler,
-    /// Consistent mass on the current pattern.
-    pub mass_values: Vec<f64>,
-    couplings: FxHashMap<(usize, usize), Coupling>,
+    /// The pattern with contact couplings (`None`: the elements' pattern alone).
+    grown: Option<Grown>,
     /// Step at which each pair (lower ME first) last had a closed point.
     last_closed: FxHashMap<(usize, usize), u64>,
     /// Times the pattern grew.
     pub rebuilds: u64,
 }
 
+/// A pattern grown by contact couplings.
+struct Grown {
+    pattern: SparsityPattern,
+    /// Position of each entry of the elements' pattern in `pattern`.
+    from_elements: Vec<u32>,
+    couplings: FxHashMap<(usize, usize), Coupling>,
+}
+
 impl ContactPattern {
-    /// The elements' pattern alone.
-    pub fn new(sys: &System) -> Self {
-        Self {
-            assembler: sys.assembler.clone(),
-            mass_values: sys.mass_values.clone(),
-            couplings: FxHashMap::default(),
-            last_closed: FxHashMap::default(),
-            rebuilds: 0,
-        }
+    /// The current pattern.
+    pub fn pattern<'a>(&'a self, sys: &'a System) -> &'a SparsityPattern {
+        self.grown.as_ref().map_or(&sys.assembler.pattern, |g| &g.pattern)
     }
 
     /// The scatter of a pair of MEs (lower first) the pattern holds.
     pub fn coupling(&self, pair: (usize, usize)) -> &Coupling {
-        &self.couplings[&pair]
+        &self.grown.as_ref().expect("a pattern with contact couplings").couplings[&pair]
     }
 
-    /// Make the pattern hold every pair in `closed` (lower ME first), marked closed at `step`.
-    /// When it had to grow, returns the map from the old pattern's entries to the new ones.
-    pub fn ensure(&mut self, sys: &System, closed: &[(usize, usize)], step: u64) -> Option<Vec<u32>> {
+    /// `out` = a·`k` + b·`m` on the current pattern, for `k` and `m` on the elements' pattern.
+    pub fn combine(&self, sys: &System, (a, k): (f64, &[f64]), (b, m): (f64, &[f64]), out: &mut Vec<f64>) {
+        out.clear();
+        match &self.grown {
+            None => out.extend(k.iter().zip(m).map(|(k, m)| a * k + b * m)),
+            Some(g) => {
+                out.resize(g.pattern.nnz(), 0.0);
+                for ((&at, k), m) in g.from_elements.iter().zip(k).zip(m) {
+                    out[at as usize] = a * k + b * m;
+                }
+            }
+        }
+        debug_assert_eq!(out.len(), self.pattern(sys).nnz());
+    }
+
+    /// Make the pattern hold every pair in `closed` (lower ME first), marked closed at `step`;
+    /// true when it had to grow.
+    pub fn ensure(&mut self, sys: &System, closed: &[(usize, usize)], step: u64) -> bool {
         for &p in closed {
             let _ = self.last_closed.insert(p, step);
         }
-        if closed.iter().all(|p| self.couplings.contains_key(p)) {
-            return None;
+        let held = |p: &(usize, usize)| self.grown.as_ref().is_some_and(|g| g.couplings.contains_key(p));
+        if closed.iter().all(held) {
+            return false;
         }
         self.last_closed.retain(|_, &mut last| last + RETAIN_STEPS >= step);
         let mut pairs: Vec<(usize, usize)> = self.last_closed.keys().copied().collect();
         pairs.sort_unstable();
         let cliques: Vec<Vec<usize>> = pairs.iter().map(|&(a, b)| pair_clique(sys, a, b)).collect();
         let masters: Vec<Vec<usize>> = cliques.iter().map(|c| masters_of(&sys.dofs, c).0).collect();
-        let pattern = sys.assembler.pattern.with_cliques(&sys.dofs, masters.iter().map(|c| c.as_slice()));
-        let from_elements = sys.assembler.pattern.embedding(&pattern);
-        let from_old = self.assembler.pattern.embedding(&pattern);
-        self.mass_values = SparsityPattern::embed(&sys.mass_values, &from_elements, &pattern);
-        self.couplings = pairs.iter().zip(&cliques).map(|(&p, c)| (p, Coupling::new(&pattern, &sys.dofs, c))).collect();
-        self.assembler = sys.assembler.remapped(pattern, &from_elements);
+        let elements = &sys.assembler.pattern;
+        let pattern = elements.with_cliques(&sys.dofs, masters.iter().map(|c| c.as_slice()));
+        let from_elements = elements.embedding(&pattern);
+        let couplings = pairs.iter().zip(&cliques).map(|(&p, c)| (p, Coupling::new(&pattern, &sys.dofs, c))).collect();
+        self.grown = Some(Grown { pattern, from_elements, couplings });
         self.rebuilds += 1;
-        Some(from_old)
+        true
     }
 }

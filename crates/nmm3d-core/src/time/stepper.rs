@@ -13,7 +13,6 @@ use super::contact_pattern::ContactPattern;
 use super::corotation;
 use super::integrator::Newmark;
 use super::step_control::{self, Verdict};
-use crate::assembly::SparsityPattern;
 use crate::contact::{overlap_problems, ContactParams, ContactSet};
 use crate::error::{Error, Result};
 use crate::scenario::{AnalysisKind, Stiffness};
@@ -59,7 +58,7 @@ pub struct PhaseTimes {
 /// Orchestrates steps; owns the linear solver and work buffers.
 pub struct Stepper {
     solver: Box<dyn LinearSolver>,
-    /// Pattern, scatter maps and mass of the system matrix (grown by contacts).
+    /// The system matrix's pattern (grown by contacts).
     pattern: ContactPattern,
     contacts: Option<ContactSet>,
     newmark: Newmark,
@@ -91,7 +90,7 @@ impl Stepper {
         }
         let mut stepper = Self {
             solver: Box::new(FaerCholesky::new(sys.scenario.analysis.ordering)),
-            pattern: ContactPattern::new(sys),
+            pattern: ContactPattern::default(),
             contacts,
             newmark: Newmark::from_analysis(&sys.scenario.analysis),
             tangent: vec![0.0; nnz],
@@ -126,7 +125,8 @@ impl Stepper {
         let residual = self.assemble(sys, state);
         self.force_scale = scale(sys, &residual).max(scale(sys, &sys.external));
         if sys.scenario.analysis.kind == AnalysisKind::Dynamic && self.newmark.uses_acceleration() && sys.n_eq() > 0 {
-            self.solver.factorize(&self.pattern.assembler.pattern, &self.pattern.mass_values).map_err(|r| Error::Solver { step: 0, reason: r })?;
+            self.pattern.combine(sys, (0.0, &self.tangent), (1.0, &sys.mass_values), &mut self.values);
+            self.solver.factorize(self.pattern.pattern(sys), &self.values).map_err(|r| Error::Solver { step: 0, reason: r })?;
             let mut rhs = gather(sys, &residual);
             self.solver.solve(&mut rhs);
             scatter_into(sys, &rhs, &mut state.a);
@@ -279,15 +279,11 @@ impl Stepper {
     }
 
     /// Make the sparsity pattern hold the couplings of every closed contact point (grown, with
-    /// a new symbolic factorisation, when a pair of MEs closes that it lacks; the tangent
-    /// assembled so far moves along).
+    /// a new symbolic factorisation, when a pair of MEs closes that it lacks).
     fn ensure_contact_pattern(&mut self, sys: &System, step: u64) {
         let Some(c) = self.contacts.as_ref() else { return };
         let t = Instant::now();
-        if let Some(map) = self.pattern.ensure(sys, &c.closed_pairs(), step) {
-            let pattern = &self.pattern.assembler.pattern;
-            self.tangent = SparsityPattern::embed(&self.tangent, &map, pattern);
-            self.values = vec![0.0; pattern.nnz()];
+        if self.pattern.ensure(sys, &c.closed_pairs(), step) {
             self.solver.new_pattern();
         }
         self.times.pattern += t.elapsed().as_secs_f64();
@@ -296,16 +292,14 @@ impl Stepper {
     #[allow(clippy::too_many_arguments)] // the Newmark coefficients travel together with the vectors they scale
     fn solve_trial(&mut self, sys: &System, state: &State, residual: &[Vec3], mv: &[Vec3], ma: &[Vec3], c0: f64, c1: f64, c2: f64) -> Result<Vec<Vec3>> {
         let t = Instant::now();
-        for ((v, k), m) in self.values.iter_mut().zip(&self.tangent).zip(&self.pattern.mass_values) {
-            *v = k + c0 * m;
-        }
+        self.pattern.combine(sys, (1.0, &self.tangent), (c0, &sys.mass_values), &mut self.values);
         let mut contact_force = vec![Vec3::zeros(); residual.len()];
         if let Some(c) = self.contacts.as_ref() {
             let pattern = &self.pattern;
-            c.assemble(sys, &mut contact_force, &pattern.assembler.pattern, |pair| pattern.coupling(pair), &mut self.values);
+            c.assemble(sys, &mut contact_force, pattern.pattern(sys), |pair| pattern.coupling(pair), &mut self.values);
         }
         self.solver
-            .factorize(&self.pattern.assembler.pattern, &self.values)
+            .factorize(self.pattern.pattern(sys), &self.values)
             .map_err(|r| Error::Solver { step: state.step + 1, reason: r })?;
         self.times.factorization += t.elapsed().as_secs_f64();
         let t = Instant::now();
@@ -347,7 +341,7 @@ impl Stepper {
             let r = corotation::rotation(&f, &state.rotations[e]);
             state.rotations[e] = r;
             let (fint, t) = corotation::internal_force_and_tangent(sys, state, e, &r);
-            self.pattern.assembler.add(&mut self.tangent, e, &t);
+            sys.assembler.add(&mut self.tangent, e, &t);
             for (a, &c) in sys.covers.elements[e].covers.iter().enumerate() {
                 residual[c] -= fint[a];
             }
@@ -377,7 +371,7 @@ impl Stepper {
                     }
                 }
             }
-            self.pattern.assembler.add(&mut self.tangent, p.element, &local);
+            sys.assembler.add(&mut self.tangent, p.element, &local);
         }
     }
 }
