@@ -93,8 +93,9 @@ mod tests {
     fn dense(p: &SparsityPattern, values: &[f64]) -> Vec<Vec<f64>> {
         let mut d = vec![vec![0.0; p.n]; p.n];
         for col in 0..p.n {
-            for k in p.col_ptr[col] as usize..p.col_ptr[col + 1] as usize {
-                d[p.row_idx[k] as usize][col] = values[k];
+            let (lo, hi) = (p.col_ptr[col] as usize, p.col_ptr[col + 1] as usize);
+            for (&row, &v) in p.row_idx[lo..hi].iter().zip(&values[lo..hi]) {
+                d[row as usize][col] = v;
             }
         }
         d
