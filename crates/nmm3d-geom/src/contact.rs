@@ -191,9 +191,11 @@ pub fn detect_prepared(a: &Prepared, b: &Prepared, params: &DetectParams) -> Opt
     }
     // Deformed pieces are convex only nearly: the supports on the least-penetrating plane may
     // miss each other by a fraction of a millimetre (a corner just short of an edge) while the
-    // pieces overlap. Then the next planes, at most `FALLBACK_DEPTH` support tolerances deeper,
-    // are tried in order: a contact within the margin must not be left without points.
-    let mut order: Vec<usize> = (0..axes.len()).filter(|&m| m != k && seps[m] >= top - FALLBACK_DEPTH * support_tolerance).collect();
+    // pieces touch or overlap. Then the next planes, at most `FALLBACK_DEPTH` support tolerances
+    // deeper, are tried in order: touching pieces must not be left without points. (Pieces
+    // apart, such as diagonal neighbours, are left alone: no points is their right answer.)
+    let touching = top <= support_tolerance;
+    let mut order: Vec<usize> = (0..axes.len()).filter(|&m| touching && m != k && seps[m] >= top - FALLBACK_DEPTH * support_tolerance).collect();
     order.sort_by(|&p, &q| seps[q].total_cmp(&seps[p]));
     let mut first = None;
     for m in std::iter::once(k).chain(order) {

@@ -27,6 +27,8 @@ pub struct FaerCholesky {
     /// Scratch of the numeric factorisation, kept: it is large for supernodal factors, and a
     /// fresh one per factorisation (every open–close iteration) costs its page clearing.
     scratch: Option<MemBuffer>,
+    /// Scratch of the triangular solves, kept likewise.
+    solve_scratch: Option<MemBuffer>,
     ordering: Option<&'static str>,
     symbolic_seconds: f64,
     numeric_seconds: f64,
@@ -60,6 +62,7 @@ impl FaerCholesky {
         let s = factorize_symbolic_cholesky(sym, Side::Lower, ord, params).map_err(|e| format!("{e:?}"))?;
         self.values = vec![0.0; s.len_val()];
         self.scratch = Some(MemBuffer::new(s.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())));
+        self.solve_scratch = None;
         self.symbolic = Some(s);
         self.symbolic_seconds += t.elapsed().as_secs_f64();
         Ok(())
@@ -83,18 +86,19 @@ impl LinearSolver for FaerCholesky {
     }
 
     fn new_pattern(&mut self) {
-        (self.symbolic, self.scratch) = (None, None);
+        (self.symbolic, self.scratch, self.solve_scratch) = (None, None, None);
     }
 
-    fn solve(&self, rhs: &mut [f64]) {
+    fn solve(&mut self, rhs: &mut [f64]) {
         let n = rhs.len();
         let s = self.symbolic.as_ref().expect("factorize before solve");
-        let mut mem = MemBuffer::new(s.solve_in_place_scratch::<f64>(1, Par::Seq));
+        let need = s.solve_in_place_scratch::<f64>(1, Par::Seq);
+        let mem = self.solve_scratch.get_or_insert_with(|| MemBuffer::new(need));
         LltRef::<'_, u32, f64>::new(s, &self.values).solve_in_place_with_conj(
             Conj::No,
             MatMut::from_column_major_slice_mut(rhs, n, 1),
             Par::Seq,
-            MemStack::new(&mut mem),
+            MemStack::new(mem),
         );
     }
 

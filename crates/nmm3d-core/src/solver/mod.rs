@@ -17,7 +17,7 @@ pub trait LinearSolver: Send {
     /// counters keep running).
     fn new_pattern(&mut self);
     /// Solve in place with the last factorisation.
-    fn solve(&self, rhs: &mut [f64]);
+    fn solve(&mut self, rhs: &mut [f64]);
     /// Seconds spent in symbolic analysis and in numeric factorisation so far.
     fn timings(&self) -> (f64, f64);
 }
