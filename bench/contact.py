@@ -117,6 +117,16 @@ def growth(rows: list[dict]) -> list[str]:
         nlogn = math.log(b["n"] * math.log(b["n"]) / (a["n"] * math.log(a["n"]))) / ratio
         out.append(f"| {a['n']:,} | {b['n']:,} | {p(CONTACT_PHASES[:2]):.2f} | {p(CONTACT_PHASES[2:]):.2f} | "
                    f"{p(CONTACT_PHASES):.2f} | {whole:.2f} | {nlogn:.2f} |")
+    out += ["", "The same phases per unit of work: warning + detection per contact point, open–close per",
+            "iteration beyond a step's first, pattern growth per rebuild — the counts themselves (points",
+            "per block, iterations and rebuilds per step) are in the table above:", "",
+            "| N | warning + detection per point [µs] | open–close per extra iteration [ms] | pattern per rebuild [ms] |",
+            "|---:|---:|---:|---:|"]
+    for r in big:
+        t = r["timings"]
+        extra = max(r["iterations"] - r["steps"], 1)
+        out.append(f"| {r['n']:,} | {1e6 * per_step(r, CONTACT_PHASES[:2]) / r['points']:.2f} | "
+                   f"{1e3 * t.get('contact_open_close', 0.0) / extra:.2f} | {1e3 * t.get('contact_pattern', 0.0) / max(r['rebuilds'], 1):.1f} |")
     return out
 
 

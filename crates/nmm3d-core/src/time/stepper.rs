@@ -161,10 +161,12 @@ impl Stepper {
         self.times.assembly += t.elapsed().as_secs_f64();
         let analysis = &sys.scenario.analysis;
         let mut dt = state.dt.min(dt_cap);
-        let mut cuts = 0;
+        let (mut cuts, mut trials) = (0, 0);
         loop {
             let k = self.newmark.coefficients(dt);
-            if let (Some(c), Some(saved)) = (self.contacts.as_mut(), start_records.as_ref()) {
+            // Every trial starts from the step's start states (the first one has them already).
+            trials += 1;
+            if let (Some(c), Some(saved), true) = (self.contacts.as_mut(), start_records.as_ref(), trials > 1) {
                 c.records = saved.clone();
             }
             let (d, iterations, settled) = self.open_close(sys, state, &residual, &mv, &ma, k.c0, k.c1, k.c2)?;
