@@ -191,11 +191,12 @@ pub fn detect_prepared(a: &Prepared, b: &Prepared, params: &DetectParams) -> Opt
     }
     // Deformed pieces are convex only nearly: the supports on the least-penetrating plane may
     // miss each other by a fraction of a millimetre (a corner just short of an edge) while the
-    // pieces touch or overlap. Then the next planes, at most `FALLBACK_DEPTH` support tolerances
-    // deeper, are tried in order: touching pieces must not be left without points. (Pieces
-    // apart, such as diagonal neighbours, are left alone: no points is their right answer.)
-    let touching = top <= support_tolerance;
-    let mut order: Vec<usize> = (0..axes.len()).filter(|&m| touching && m != k && seps[m] >= top - FALLBACK_DEPTH * support_tolerance).collect();
+    // pieces overlap. Then the next planes, at most `FALLBACK_DEPTH` support tolerances deeper,
+    // are tried in order: overlapping pieces must not be left without points. Pieces apart or
+    // just touching (diagonal neighbours, blocks meeting at an edge of a joint) are left alone:
+    // a deeper plane would give them an overlap they do not have.
+    let overlapping = top < -support_tolerance;
+    let mut order: Vec<usize> = (0..axes.len()).filter(|&m| overlapping && m != k && seps[m] >= top - FALLBACK_DEPTH * support_tolerance).collect();
     order.sort_by(|&p, &q| seps[q].total_cmp(&seps[p]));
     let mut first = None;
     for m in std::iter::once(k).chain(order) {
