@@ -56,7 +56,7 @@ def run_case(n: int, out: str) -> dict:
 
     s = nmm3d.Scenario.from_dict(pile(n)).run(out=out).summary
     return {"n": n, "steps": s["steps"], "points": s["max_contact_points"], "iterations": s["open_close_iterations"],
-            "cuts": s["step_cuts"], "rebuilds": s["pattern_rebuilds"], "timings": s["timings"], "wall": s["wall_seconds"]}
+            "cuts": s["step_cuts"], "rebuilds": s["pattern_rebuilds"], "factor": s["factor_nonzeros"], "timings": s["timings"], "wall": s["wall_seconds"]}
 
 
 def dominos(out: str) -> dict:
@@ -120,13 +120,14 @@ def growth(rows: list[dict]) -> list[str]:
     out += ["", "The same phases per unit of work: warning + detection per contact point, open–close per",
             "iteration beyond a step's first, pattern growth per rebuild — the counts themselves (points",
             "per block, iterations and rebuilds per step) are in the table above:", "",
-            "| N | warning + detection per point [µs] | open–close per extra iteration [ms] | pattern per rebuild [ms] |",
-            "|---:|---:|---:|---:|"]
+            "| N | warning + detection per point [µs] | open–close per extra iteration [ms] | pattern per rebuild [ms] | factor entries | factorisation + solve per iteration and million factor entries [ms] |",
+            "|---:|---:|---:|---:|---:|---:|"]
     for r in big:
         t = r["timings"]
         extra = max(r["iterations"] - r["steps"], 1)
         out.append(f"| {r['n']:,} | {1e6 * per_step(r, CONTACT_PHASES[:2]) / r['points']:.2f} | "
-                   f"{1e3 * t.get('contact_open_close', 0.0) / extra:.2f} | {1e3 * t.get('contact_pattern', 0.0) / max(r['rebuilds'], 1):.1f} |")
+                   f"{1e3 * t.get('contact_open_close', 0.0) / extra:.2f} | {1e3 * t.get('contact_pattern', 0.0) / max(r['rebuilds'], 1):.1f} | "
+                   f"{r['factor']:,} | {1e9 * (t.get('factorization', 0.0) + t.get('solve', 0.0)) / r['iterations'] / max(r['factor'], 1):.2f} |")
     return out
 
 

@@ -253,6 +253,7 @@ fn summary(sys: &System, state: &State, stepper: &Stepper, rec: &Recorder, compl
         "penetration_cuts": stepper.penetration_cuts,
         "penalty_raises": stepper.penalty_raises,
         "pattern_rebuilds": stepper.pattern_rebuilds(),
+        "factor_nonzeros": stepper.factor_nonzeros(),
         "unbalanced_force_ratio": rec.last_unbalanced,
         "stress_sign": "compression negative",
         "timings": Value::Object(timings),

@@ -102,6 +102,10 @@ impl LinearSolver for FaerCholesky {
         );
     }
 
+    fn factor_nonzeros(&self) -> usize {
+        self.values.len()
+    }
+
     fn timings(&self) -> (f64, f64) {
         (self.symbolic_seconds, self.numeric_seconds)
     }

@@ -18,6 +18,8 @@ pub trait LinearSolver: Send {
     fn new_pattern(&mut self);
     /// Solve in place with the last factorisation.
     fn solve(&mut self, rhs: &mut [f64]);
+    /// Stored entries of the factor of the current pattern (0 before the first factorisation).
+    fn factor_nonzeros(&self) -> usize;
     /// Seconds spent in symbolic analysis and in numeric factorisation so far.
     fn timings(&self) -> (f64, f64);
 }

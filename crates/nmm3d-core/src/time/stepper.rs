@@ -115,6 +115,11 @@ impl Stepper {
         self.pattern.rebuilds
     }
 
+    /// Stored entries of the current factor.
+    pub fn factor_nonzeros(&self) -> usize {
+        self.solver.factor_nonzeros()
+    }
+
     /// Symbolic and numeric factorisation seconds of the solver.
     pub fn solver_timings(&self) -> (f64, f64) {
         self.solver.timings()
