@@ -3,12 +3,17 @@
 //! least-penetrating support plane of the meta-contact search, Wang et al. 2022).
 //!
 //! 1. **Plane.** Candidate normals are the face normals of both pieces and the cross products
-//!    of their edge directions (separating-axis theorem). For each, the separation is
+//!    of those pairs of edges that build a face of the Minkowski difference (separating-axis
+//!    theorem with the Gauss-map test, Gregorius 2013). For each, the separation is
 //!    min over A of n·x − max over B of n·x (n pointing from B to A). The largest separation —
-//!    the least penetration — picks the contact plane; beyond `margin` there is no contact.
+//!    the least penetration — picks the contact plane, face normals winning ties within the
+//!    support tolerance; beyond `margin` there is no contact. Pieces overlapping by more than the
+//!    support tolerance whose supports miss each other on that plane (deformed pieces are only
+//!    nearly convex) try the next planes, at most ten support tolerances deeper.
 //! 2. **Support polygons.** The vertices of A within `support_tolerance` of its lowest level along
 //!    n, and those of B within it of its highest, projected on the plane, give two convex polygons
-//!    (a face, an edge or a vertex of each piece).
+//!    (a face, an edge or a vertex of each piece); the piece whose face gives the plane takes that
+//!    whole face, however warped.
 //! 3. **Points.** Their overlap's corners are the contact points: a corner at a vertex of A is a
 //!    vertex-to-face point (point-to-plane mode) against B, one at a vertex of B the reverse, and
 //!    a corner where two edges cross is an edge-to-edge point (crossing-lines mode). Vertex-edge,
