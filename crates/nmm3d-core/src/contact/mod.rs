@@ -216,7 +216,7 @@ impl ContactSet {
             .filter_map(|(i, j)| {
                 let c = detect_prepared(&prepared[i], &prepared[j], &dp)?;
                 let on = Surfaces { pieces: (&pieces[i], &pieces[j]), current: (&current[i], &current[j]), facets: (facets_of(i), facets_of(j)) };
-                Some((i, j, c.normal, candidates(sys, &on, &c, p.tolerance)))
+                Some((i, j, c.normal, candidates(sys, state, &on, &c, p.tolerance)))
             })
             .collect();
         let previous = std::mem::take(&mut self.records);
@@ -462,7 +462,7 @@ struct Surfaces<'a> {
 
 /// Contact point candidates of a detected pair: on the facets for a face-to-face contact, else
 /// the piece-level points (area shared equally).
-fn candidates(sys: &System, on: &Surfaces, c: &Contact, tol: f64) -> Vec<Candidate> {
+fn candidates(sys: &System, state: &State, on: &Surfaces, c: &Contact, tol: f64) -> Vec<Candidate> {
     let ((pa, pb), (ca, cb)) = (on.pieces, on.current);
     let n = c.normal;
     let level = |p: &ConvexPolyhedron, f: fn(f64, f64) -> f64, init: f64| p.faces.iter().flat_map(|x| x.vertices.iter()).map(|v| n.dot(v)).fold(init, f);
@@ -477,7 +477,12 @@ fn candidates(sys: &System, on: &Surfaces, c: &Contact, tol: f64) -> Vec<Candida
         .filter_map(|q| {
             let a = MaterialPoint::new(sys, pa.block, pa.reference_of(ca, &q.on_a))?;
             let b = MaterialPoint::new(sys, pb.block, pb.reference_of(cb, &q.on_b))?;
-            Some(Candidate { mode: q.mode, a, b, on_a: q.on_a, gap: q.gap, area })
+            // The gap the springs act on: between the material points as their covers move them.
+            // A piece's faces run straight between its vertices, but a long piece bends between
+            // them (the covers interpolate within each ME): a gap measured on the straight faces
+            // would not close when the springs push the material points apart.
+            let (xa, xb) = (a.position(sys, state), b.position(sys, state));
+            Some(Candidate { mode: q.mode, a, b, on_a: xa, gap: n.dot(&(xa - xb)), area })
         })
         .collect()
 }
