@@ -411,6 +411,14 @@ impl ContactSet {
         self.records.iter_mut().for_each(|r| r.stiffen(factor));
     }
 
+    /// Whether a closed point overlaps by more than `depth` [m] and more than at the start of the
+    /// step: the overlap is growing beyond the allowed depth. (A point found already deeper — a
+    /// corner that came in during the last step without a point, detected now — is being pushed
+    /// out; no smaller step can undo an overlap that is there at the start.)
+    pub fn overlap_growing_beyond(&self, depth: f64) -> bool {
+        self.records.iter().any(|r| r.state != ContactState::Open && -r.gap > depth && r.gap < r.gap0)
+    }
+
     /// Largest penetration among closed points [m].
     pub fn max_penetration(&self) -> f64 {
         self.records.iter().filter(|r| r.state != ContactState::Open).map(|r| -r.gap).fold(0.0, f64::max)

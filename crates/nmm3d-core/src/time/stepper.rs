@@ -180,7 +180,7 @@ impl Stepper {
             // Contacts overlapping beyond the allowed depth: the penalty is too soft for the
             // loads — raise it (×10, at most three times in a run) and repeat the step; after
             // that, cut the step like an unsettled one (an impact in smaller steps overlaps less).
-            let too_deep = self.contacts.as_ref().is_some_and(|c| c.max_penetration() > sys.scenario.contact.max_penetration_ratio * sys.covers.mesh.size);
+            let too_deep = self.contacts.as_ref().is_some_and(|c| c.overlap_growing_beyond(sys.scenario.contact.max_penetration_ratio * sys.covers.mesh.size));
             if too_deep && settled && self.penalty_raises < MAX_PENALTY_RAISES {
                 self.penalty_raises += 1;
                 if let (Some(c), Some(saved)) = (self.contacts.as_mut(), start_records.as_mut()) {
