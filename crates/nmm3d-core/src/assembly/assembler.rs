@@ -88,15 +88,6 @@ impl Assembler {
     }
 }
 
-impl Assembler {
-    /// The same scatter onto `pattern`, which holds this one's pattern: `map` from
-    /// [`SparsityPattern::embedding`].
-    pub fn remapped(&self, pattern: SparsityPattern, map: &[u32]) -> Self {
-        let targets = self.targets.iter().map(|&t| if t == SKIP { SKIP } else { map[t as usize] }).collect();
-        Self { pattern, offsets: self.offsets.clone(), targets, transforms: self.transforms.clone() }
-    }
-}
-
 /// Tᵀ L T for a (3n)² block L and scalar weights T (n × m), applied per 3 × 3 block.
 fn transform(l: &[f64], t: &[f64], m: usize) -> Vec<f64> {
     let n = t.len() / m;
