@@ -12,7 +12,7 @@ import pytest
 
 import nmm3d
 from conftest import EXAMPLES
-from nmm3d import analytic
+from nmm3d import analytic, roof_wedge
 from nmm3d.wedge import wedge
 
 CASES = {
@@ -31,6 +31,8 @@ CASES = {
     # Contact: short runs (the full ones are in docs/verification.md).
     "incline.toml": ["analysis.duration=0.3"],
     "roof_wedge.toml": ["analysis.duration=0.1"],
+    "roof_wedge_prism.toml": ["analysis.duration=0.1"],
+    "roof_wedge_pyramid.toml": ["analysis.duration=0.1"],
     "drop_test.toml": [],
     "tetrahedral_wedge.toml": ["analysis.duration=0.2"],
     "block_tower.toml": ["analysis.max_steps=1000"],
@@ -123,6 +125,14 @@ def test_roof_wedge_settles_and_stays(results):
     # W / (k ΣA): weight 11.547 kN, k = 10 MPa/m, three faces of 1.1547 m².
     settle = 2000.0 * 10.0 * math.sqrt(3.0) / 3.0 / (10.0e6 * 3.0 * 2.0 / math.sqrt(3.0))
     assert -final(results, "roof_wedge.toml", "wedge.displacement.z") == pytest.approx(settle, rel=0.05)
+
+
+@pytest.mark.parametrize("name, shape", [("roof_wedge_prism.toml", "prism"), ("roof_wedge_pyramid.toml", "pyramid")])
+def test_multi_face_roof_wedges_settle_as_the_relaxation_closed_form(results, name, shape):
+    # Rigid wedge on springs k_n = k_s = 10 MPa/m: δ = W / (k ΣA) (nmm3d.roof_wedge).
+    wedge = roof_wedge.prism(1.0, math.sqrt(3.0), 4.0, 2000.0, 10.0, 5e4) if shape == "prism" else \
+        roof_wedge.pyramid(1.0, math.sqrt(3.0), 2000.0, 10.0, 5e4)
+    assert -final(results, name, "wedge.displacement.z") == pytest.approx(wedge.settlement(1e7, 1e7), rel=0.03)
 
 
 def test_drop_test_penetration(results):

@@ -10,6 +10,7 @@
 from nmm3d._core import NmmError, OutputError, RunError, ScenarioError, __version__
 from nmm3d.result import Result
 from nmm3d.scenario import Scenario, load
+from nmm3d.study import Study, StudyResult
 
 __all__ = [
     "NmmError",
@@ -18,6 +19,8 @@ __all__ = [
     "RunError",
     "Scenario",
     "ScenarioError",
+    "Study",
+    "StudyResult",
     "__version__",
     "load",
 ]

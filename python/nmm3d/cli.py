@@ -29,6 +29,15 @@ def _parser() -> argparse.ArgumentParser:
     blocks.add_argument("file", type=Path)
     blocks.add_argument("--out", type=Path, required=True, help="output directory")
     blocks.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE")
+    study = sub.add_parser("study", help="run the scenario's [study] (critical friction, strength reduction, sweep, "
+                           "Monte-Carlo) on Dask")
+    study.add_argument("file", type=Path)
+    study.add_argument("--out", type=Path, required=True, help="study directory (rerun with the same one to resume)")
+    study.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE")
+    study.add_argument("--workers", type=int, default=None, help="local worker processes (default: the cores)")
+    study.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                       help="a running Dask scheduler, e.g. tcp://host:8786 (instead of local workers)")
+    study.add_argument("--quiet", action="store_true", help="no progress")
     plot = sub.add_parser("plot", help="draw the monitored histories of a run to PNG")
     plot.add_argument("dir", type=Path)
     plot.add_argument("--out", type=Path, default=None, help="PNG file (default DIR/history.png)")
@@ -51,6 +60,10 @@ def _run(args: argparse.Namespace) -> int:
 
 def _check(args: argparse.Namespace) -> int:
     d = load(args.file, args.overrides).to_dict()
+    if "study" in d:
+        from nmm3d.study.spec import parse
+
+        parse(d, str(args.file))
     print(f"{args.file}: valid ({len(d['body'])} bodies, {len(d['material'])} materials, "
           f"{len(d['monitor'])} monitors)")
     return EXIT_OK
@@ -72,6 +85,18 @@ def _blocks(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _study(args: argparse.Namespace) -> int:
+    from nmm3d.study.driver import Study, describe
+
+    if args.workers is not None and args.workers < 1:
+        print(f"nmm3d: invalid input:\n--workers: must be at least 1, got {args.workers}", file=sys.stderr)
+        return EXIT_INPUT
+    result = Study(args.file, args.out, args.overrides).run(args.workers, args.scheduler, progress=not args.quiet)
+    print(describe(result))
+    print(f"wrote {args.out / 'study.json'}, {args.out / 'study.csv'} and {args.out / 'study.png'}")
+    return EXIT_OK if result.status in ("completed", "out_of_range") else EXIT_FAILED
+
+
 def _plot(args: argparse.Namespace) -> int:
     from nmm3d.plot import plot_history
 
@@ -85,7 +110,7 @@ def _plot(args: argparse.Namespace) -> int:
 def main(argv: list[str] | None = None) -> int:
     """Entry point; returns the exit status."""
     args = _parser().parse_args(argv)
-    handlers = {"run": _run, "check": _check, "blocks": _blocks, "plot": _plot}
+    handlers = {"run": _run, "check": _check, "blocks": _blocks, "study": _study, "plot": _plot}
     try:
         return handlers[args.command](args)
     except _core.ScenarioError as e:

@@ -48,6 +48,11 @@ impl MonitorPlan {
                     }
                     blocks[0]
                 }
+                MonitorSelect::Block(id) if *id < sys.geometry.blocks.len() => *id,
+                MonitorSelect::Block(id) => {
+                    let n = sys.geometry.blocks.len();
+                    return Err(Error::input(label, format!("monitor.{}.select.block", m.name), format!("there is no block {id} (the model has {n} blocks, ids 0..{n})")));
+                }
             };
             let mut plan = Self::new(sys, m.name.clone(), block, m.quantities.clone());
             if let (MonitorLocation::Point, MonitorSelect::Point(p)) = (m.location, &m.select) {

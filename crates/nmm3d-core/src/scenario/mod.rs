@@ -133,6 +133,17 @@ shape = { box = { min = [0, 0, 0], max = [1, 1, 1] } }
     }
 
     #[test]
+    fn a_study_table_is_kept_as_given_and_overridable() {
+        let text = MINIMAL.to_string() + "[study]\nkind = \"critical_friction\"\nrange = [5.0, 60.0]\n";
+        let s = from_toml_str(&text, "t.toml", &["study.range=[10.0, 40.0]".into()]).unwrap();
+        let study = s.study.expect("kept");
+        assert_eq!(study["kind"].as_str(), Some("critical_friction"));
+        assert_eq!(study["range"].as_array().unwrap()[0].as_float(), Some(10.0));
+        let json = serde_json::to_string(&from_toml_str(MINIMAL, "t.toml", &[]).unwrap()).unwrap();
+        assert!(!json.contains("study"), "absent study is not written: {json}");
+    }
+
+    #[test]
     fn malformed_toml_reports_the_line() {
         let p = problems("[analysis\n", &[]);
         assert!(p[0].reason.contains("line 1"), "{}", p[0].reason);

@@ -61,6 +61,10 @@ pub struct Scenario {
     /// Monitored quantities.
     #[serde(default)]
     pub monitor: Vec<Monitor>,
+    /// A study over many runs (addition to v1): kept as given here and validated and run by the
+    /// Python package (`nmm3d study`, `docs/studies.md`); a single run ignores it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub study: Option<toml::Table>,
 }
 
 /// `[scenario]`.
@@ -583,6 +587,8 @@ pub enum MonitorSelect {
     Point([f64; 3]),
     /// A body made of a single block.
     Body(String),
+    /// The block with this id (as in `blocks.csv`; addition to v1).
+    Block(usize),
 }
 
 /// Monitored quantities.

@@ -1,0 +1,94 @@
+"""Where a study's runs execute: a Dask cluster, local or remote.
+
+A local cluster is one process per worker with one task at a time each (a run is
+compute-bound and already uses threads inside), and the cores shared out among the workers'
+Rust thread pools. ``scheduler`` connects to a running cluster instead (``dask scheduler`` /
+``dask worker``, docs/studies.md). Finished runs are kept as ``runs/<id>/record.json`` by this
+process, so a study started again reuses them, whatever machine ran them.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from nmm3d.study.runner import run_task
+
+RECORD = "record.json"
+
+
+class Pool:
+    """A Dask client for the study; use as a context manager."""
+
+    def __init__(self, workers: int | None = None, scheduler: str | None = None) -> None:
+        self.scheduler = scheduler
+        self.workers = workers or os.cpu_count() or 1
+        self._cluster = None
+        self._client = None
+
+    def __enter__(self) -> "Pool":
+        import dask
+        from distributed import Client, LocalCluster
+
+        if self.scheduler:
+            self._client = Client(self.scheduler)
+            self.workers = max(1, len(self._client.scheduler_info().get("workers", {})))
+            self.threads = None
+        else:
+            self.threads = max(1, (os.cpu_count() or 1) // self.workers)
+            with dask.config.set({"distributed.worker.daemon": False}):
+                self._cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1, processes=True,
+                                             dashboard_address=None, silence_logs=40,
+                                             env={"RAYON_NUM_THREADS": str(self.threads)})
+            self._client = Client(self._cluster)
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        if self._client is not None:
+            self._client.close()
+        if self._cluster is not None:
+            self._cluster.close()
+
+    def run(self, tasks: list[dict[str, Any]], on_done: Callable[[dict[str, Any]], None]) -> list[dict[str, Any]]:
+        """Run the tasks not already finished (in ``task["out"]/record.json``); records in task order."""
+        from distributed import as_completed
+
+        records: dict[str, dict[str, Any]] = {}
+        todo = []
+        for task in tasks:
+            old = load_record(task)
+            if old is not None:
+                old["reused"] = True
+                records[task["id"]] = old
+                on_done(old)
+            elif task["id"] not in {t["id"] for t in todo}:
+                todo.append(dict(task, threads=self.threads))
+        futures = [self._client.submit(run_task, t, key=f"nmm3d-run-{t['id']}", pure=False) for t in todo]
+        for future in as_completed(futures):
+            record = future.result()
+            record["reused"] = False
+            save_record(Path(next(t["out"] for t in todo if t["id"] == record["id"])), record)
+            records[record["id"]] = record
+            on_done(record)
+        return [records[t["id"]] for t in tasks]
+
+
+def load_record(task: dict[str, Any]) -> dict[str, Any] | None:
+    """The record of a finished run with this task's id, if there is one."""
+    path = Path(task["out"]) / RECORD
+    try:
+        record = json.loads(path.read_text())
+    except (OSError, ValueError):
+        return None
+    return record if record.get("id") == task["id"] else None
+
+
+def save_record(folder: Path, record: dict[str, Any]) -> None:
+    """Write the record atomically: its presence means the run finished."""
+    folder.mkdir(parents=True, exist_ok=True)
+    tmp = folder / f".{RECORD}.partial"
+    tmp.write_text(json.dumps(record, indent=1, sort_keys=True))
+    os.replace(tmp, folder / RECORD)

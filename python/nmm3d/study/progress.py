@@ -1,0 +1,44 @@
+"""What a study shows while it runs: a bar on a terminal, one line per run in a log."""
+
+from __future__ import annotations
+
+import sys
+from typing import Any, TextIO
+
+
+class Progress:
+    """Counts finished runs; ``expect`` raises the total as a search adds rounds."""
+
+    def __init__(self, enabled: bool, stream: TextIO = sys.stderr) -> None:
+        self.enabled = enabled
+        self.stream = stream
+        self.done = 0
+        self.total = 0
+        self.bar = None
+        if enabled and stream.isatty():
+            from tqdm import tqdm
+
+            self.bar = tqdm(total=0, unit="run", file=stream, dynamic_ncols=True)
+
+    def expect(self, n: int, what: str = "") -> None:
+        self.total = self.done + n
+        if self.bar is not None:
+            self.bar.total = self.total
+            self.bar.set_description(what)
+            self.bar.refresh()
+
+    def finished(self, record: dict[str, Any]) -> None:
+        self.done += 1
+        verdict = {True: "unstable", False: "stable", None: "undetermined"}[record["unstable"].get("any")]
+        values = ", ".join(f"{k} = {v:.6g}" if isinstance(v, float) else f"{k} = {v}" for k, v in record["values"].items())
+        how = "reused" if record.get("reused") else f"{record['wall_seconds']:.1f} s"
+        if self.bar is not None:
+            self.bar.set_postfix_str(f"{values}: {verdict}")
+            self.bar.update(1)
+        elif self.enabled:
+            print(f"study: run {self.done}/{max(self.total, self.done)} ({values}): {record['status']}, {verdict} ({how})",
+                  file=self.stream, flush=True)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()

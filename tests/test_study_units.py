@@ -1,0 +1,157 @@
+"""Studies, the parts without runs: the bracketing search, the sampling, the [study] table."""
+
+from __future__ import annotations
+
+import math
+from statistics import NormalDist
+
+import numpy as np
+import pytest
+
+import nmm3d
+from nmm3d.study.bisection import BracketSearch
+from nmm3d.study.sampling import dip_and_direction, fisher_pole, scatter_plane, truncated_normal, wilson_interval
+from nmm3d.study.spec import parse
+from nmm3d.wedge import plane_normal
+
+
+def drive(search: BracketSearch, verdict, targets=("any",)) -> dict:
+    """Run a search against a known verdict(x) -> {target: unstable}; returns the observations."""
+    obs: dict = {}
+    points = search.first_points()
+    while points:
+        for x in points:
+            obs[x] = verdict(x)
+        points = search.next_points(list(targets), obs)
+        assert len(obs) < 200
+    return obs
+
+
+@pytest.mark.parametrize("k", [1, 2, 5])
+def test_search_brackets_a_friction_boundary_within_the_tolerance(k):
+    s = BracketSearch(5.0, 60.0, 0.25, k, unstable_below=True)
+    obs = drive(s, lambda x: {"any": x < 31.81})
+    b = s.bracket("any", obs)
+    assert b.status == "converged"
+    assert b.unstable < 31.81 < b.stable and b.stable - b.unstable <= 0.25
+    assert abs(b.value - 31.81) <= 0.125 + 1e-12
+    # k-section: fewer rounds than plain bisection once k > 1
+    assert len(obs) <= 2 + k * math.ceil(math.log(55 / 0.25) / math.log(k + 1))
+
+
+def test_search_for_a_factor_fails_above_the_boundary():
+    s = BracketSearch(0.5, 3.0, 0.01, 2, unstable_below=False)
+    obs = drive(s, lambda f: {"any": f > 1.4142})
+    b = s.bracket("any", obs)
+    assert b.status == "converged" and b.stable < 1.4142 < b.unstable
+    assert b.as_dict()["bracket"] == [b.stable, b.unstable]
+
+
+def test_every_target_gets_its_own_boundary():
+    crit = {"block:3": 20.0, "block:7": 35.0}
+    verdict = lambda x: {"any": x < 35.0, **{t: x < c for t, c in crit.items()}}  # noqa: E731
+    s = BracketSearch(5.0, 60.0, 0.5, 2, unstable_below=True)
+    obs = drive(s, verdict, targets=("any", *crit))
+    for t, c in crit.items():
+        b = s.bracket(t, obs)
+        assert b.status == "converged" and b.unstable < c < b.stable, (t, b)
+
+
+def test_the_points_do_not_depend_on_anything_but_the_outcomes():
+    a, b = (drive(BracketSearch(5.0, 60.0, 0.25, 2, True), lambda x: {"any": x < 40.0}) for _ in range(2))
+    assert list(a) == list(b)
+
+
+def test_boundaries_outside_the_range_and_undecided_runs_are_reported():
+    s = BracketSearch(5.0, 60.0, 0.25, 2, True)
+    assert s.bracket("any", drive(s, lambda x: {"any": False})).status == "stable_in_range"
+    s = BracketSearch(5.0, 60.0, 0.25, 2, True)
+    assert s.bracket("any", drive(s, lambda x: {"any": True})).status == "unstable_in_range"
+    # every run inside the bracket fails without a verdict: the search gives the target up
+    s = BracketSearch(5.0, 60.0, 0.25, 2, True)
+    obs = drive(s, lambda x: {"any": True if x == 5.0 else False if x == 60.0 else None})
+    assert s.bracket("any", obs).status == "undetermined" and len(obs) == 4
+
+
+def test_a_non_monotone_target_is_flagged():
+    s = BracketSearch(0.0, 10.0, 0.1, 1, True)
+    obs = {0.0: {"any": True}, 10.0: {"any": False}, 5.0: {"any": False}, 7.0: {"any": True}}
+    b = s.bracket("any", obs)
+    assert b.non_monotone and b.unstable == 0.0 and b.stable == 5.0
+
+
+def test_fisher_poles_have_the_mean_resultant_of_the_distribution():
+    rng = np.random.default_rng(1)
+    mean = plane_normal(50.0, 130.0)
+    for kappa in (5.0, 40.0):
+        cos = np.array([fisher_pole(mean, kappa, rng) @ mean for _ in range(4000)])
+        expected = 1.0 / math.tanh(kappa) - 1.0 / kappa  # E[cos θ] = coth κ − 1/κ
+        assert cos.mean() == pytest.approx(expected, abs=4 * cos.std() / math.sqrt(len(cos)))
+        assert np.all(cos <= 1.0 + 1e-12)
+
+
+def test_scattered_planes_stay_planes_and_round_trip_their_orientation():
+    assert dip_and_direction(plane_normal(50.0, 130.0)) == pytest.approx((50.0, 130.0))
+    assert dip_and_direction(-plane_normal(50.0, 130.0)) == pytest.approx((50.0, 130.0))
+    rng = np.random.default_rng(2)
+    dips = [scatter_plane(50.0, 130.0, 1e6, rng) for _ in range(10)]
+    assert all(abs(d - 50.0) < 0.5 and abs(dd - 130.0) < 0.5 for d, dd in dips)
+
+
+def test_friction_scatter_gives_the_normal_law_probability_of_falling_below_a_critical_angle():
+    rng = np.random.default_rng(5)
+    phi = np.array([truncated_normal(32.5, 3.0, 0.0, 89.9, rng) for _ in range(20000)])
+    exact = NormalDist(32.5, 3.0).cdf(31.81)  # the tetrahedral wedge's φ_c: P(failure) = Φ((φ_c − μ)/σ)
+    p = float(np.mean(phi < 31.81))
+    assert p == pytest.approx(exact, abs=4 * math.sqrt(exact * (1 - exact) / len(phi)))
+    assert phi.std() == pytest.approx(3.0, rel=0.03)
+
+
+def test_wilson_interval_covers_the_proportion():
+    lo, hi = wilson_interval(10, 100, 0.95)
+    assert lo < 0.1 < hi and lo == pytest.approx(0.0552, abs=1e-3) and hi == pytest.approx(0.1744, abs=1e-3)
+    lo, hi = wilson_interval(0, 20, 0.95)
+    assert lo == 0.0 and 0.0 < hi < 0.2
+
+
+SCENARIO = {
+    "material": [{"name": "rock", "density": 2500.0, "young": 1e9, "poisson": 0.25}],
+    "joint": [{"name": "j", "friction_angle": 30.0}],
+    "joint_set": [{"dip": 50.0, "dip_direction": 130.0, "spacing": 1.0, "joint": "j"}],
+    "body": [{"name": "cube", "material": "rock", "joint": "j", "shape": {"box": {"min": [0, 0, 0], "max": [2, 2, 2]}}}],
+    "monitor": [{"name": "m", "select": {"point": [0.1, 0.1, 0.1]}, "quantities": ["velocity"]}],
+}
+
+
+def study(**table) -> nmm3d.Scenario:
+    return nmm3d.Scenario.from_dict({**SCENARIO, "study": table})
+
+
+def problems(**table) -> str:
+    with pytest.raises(nmm3d.ScenarioError) as e:
+        parse(study(**table).to_dict(), "s.toml")
+    return str(e.value)
+
+
+def test_a_valid_study_table_is_typed_with_defaults():
+    spec = parse(study(kind="critical_friction", criterion={"monitor": "m", "displacement": 0.05, "time": 1.0}).to_dict(),
+                 "s.toml")
+    assert spec.range == (5.0, 60.0) and spec.tolerance == 0.25 and spec.joints == ("j",)
+    assert spec.criterion.monitors == ("m",) and not spec.criterion.per_block
+
+
+def test_study_errors_name_the_key():
+    assert "study.criterion.monitor: there is no monitor named 'wedge'" in problems(
+        kind="critical_friction", criterion={"monitor": "wedge", "displacement": 0.05, "time": 1.0})
+    assert "study.kind" in problems(kind="bisect", criterion={"monitor": "m", "displacement": 0.05})
+    assert "study.range" in problems(kind="critical_friction", range=[60.0, 5.0],
+                                     criterion={"monitor": "m", "displacement": 0.05})
+    assert "study.criterion.displacement" in problems(kind="sweep", parameters={"joint.j.friction_angle": [1.0]},
+                                                      criterion={"monitor": "m", "displacement": -1.0})
+    assert "study.joints" in problems(kind="critical_friction", joints=["nope"],
+                                      criterion={"monitor": "m", "displacement": 0.05})
+    assert "study.orientation.0.joint_set" in problems(kind="monte_carlo", samples=3,
+                                                       orientation=[{"joint_set": 4, "kappa": 10.0}],
+                                                       criterion={"blocks": "all", "displacement": 0.05})
+    assert "study.bogus: unknown key" in problems(kind="sweep", bogus=1, parameters={"joint.j.friction_angle": [1.0]},
+                                                  criterion={"monitor": "m", "displacement": 0.05})
