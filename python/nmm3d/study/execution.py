@@ -15,7 +15,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from nmm3d.study.runner import run_task
+from nmm3d.study.runner import failed_record, run_task
 
 RECORD = "record.json"
 
@@ -66,12 +66,18 @@ class Pool:
                 on_done(old)
             elif task["id"] not in {t["id"] for t in todo}:
                 todo.append(dict(task, threads=self.threads))
-        futures = [self._client.submit(run_task, t, key=f"nmm3d-run-{t['id']}", pure=False) for t in todo]
+        by_key = {f"nmm3d-run-{t['id']}": t for t in todo}
+        futures = [self._client.submit(run_task, t, key=k, pure=False) for k, t in by_key.items()]
         for future in as_completed(futures):
-            record = future.result()
+            task = by_key[future.key]
+            try:
+                record = future.result()
+            except Exception as e:  # noqa: BLE001 — e.g. the worker process died (out of memory)
+                record = failed_record(task, f"the run was lost with its worker: {type(e).__name__}: {e}")
             record["reused"] = False
-            save_record(Path(next(t["out"] for t in todo if t["id"] == record["id"])), record)
-            records[record["id"]] = record
+            if record["status"] != "failed" or record["steps"] > 0:
+                save_record(Path(task["out"]), record)  # a run lost with nothing to show is tried again
+            records[task["id"]] = record
             on_done(record)
         return [records[t["id"]] for t in tasks]
 

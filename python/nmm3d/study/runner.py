@@ -38,11 +38,21 @@ def run_task(task: dict[str, Any]) -> dict[str, Any]:
         record.update(status=summary["status"], message=summary["message"], steps=summary["steps"],
                       time=summary["time"])
         record.update(judge(out, monitors, task["criterion"], summary["status"] == "completed"))
-    except _core.NmmError as e:
-        record.update(status="failed", message=str(e), steps=0, time=0.0, unstable={"any": None}, detach={},
-                      final={}, displacement=None)
+    except Exception as e:  # noqa: BLE001 — a failed run is a row with its reason, never a crash of the study
+        record = failed_record(task, f"{type(e).__name__}: {e}" if not isinstance(e, _core.NmmError) else str(e))
+    except BaseException as e:  # a Rust panic (pyo3's PanicException) is a BaseException
+        if isinstance(e, (KeyboardInterrupt, SystemExit)):
+            raise
+        record = failed_record(task, f"internal error: {e}")
     record["wall_seconds"] = time.perf_counter() - t0
     return record
+
+
+def failed_record(task: dict[str, Any], message: str) -> dict[str, Any]:
+    """The record of a run that produced no verdict."""
+    return {"id": task["id"], "values": task["values"], "overrides": task["overrides"], "status": "failed",
+            "message": message, "steps": 0, "time": 0.0, "unstable": {"any": None}, "detach": {}, "final": {},
+            "displacement": None, "wall_seconds": 0.0}
 
 
 def _with_criterion_monitors(task: dict[str, Any]) -> tuple[str, dict[str, str]]:
