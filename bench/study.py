@@ -1,6 +1,7 @@
 """Studies against their closed forms, and the speed-up from 1 to 2 Dask workers.
 
-Usage: python bench/study.py [OUT]   (default bench/results/study) → docs/studies-results.md
+Usage: python bench/study.py [OUT]   (default bench/results/study) → docs/studies-results.md and
+the pyramid's plots in docs/images/
 
 Runs the critical-friction and strength-reduction studies of the wedge examples (the same
 studies the test suite checks) and one study on 1 and on 2 local workers, back to back.
@@ -47,6 +48,9 @@ CASES = [  # (label, example, overrides, quantity, closed form)
 ]
 
 
+FIGURES = {2: "study_pyramid_critical_friction.png", 6: "study_pyramid_strength_reduction.png"}  # case → name
+
+
 def fresh(path: Path) -> Path:
     shutil.rmtree(path, ignore_errors=True)
     return path
@@ -66,6 +70,8 @@ def main() -> None:
              "| case | quantity | closed form | study | difference | bracket | runs |", "|---|---|---|---|---|---|---|"]
     for i, (label, example, overrides, key, exact) in enumerate(CASES):
         r, _ = timed(example, out / f"case{i}", overrides, workers=2)
+        if i in FIGURES:
+            shutil.copyfile(r.directory / "study.png", ROOT / "docs" / "images" / FIGURES[i])
         s = r.summary
         v = s.get(key)
         diff = "—" if v is None else (f"{v - exact:+.3f}°" if key == "critical_friction_angle" else f"{100 * (v / exact - 1):+.2f} %")
@@ -86,7 +92,7 @@ def main() -> None:
         base = base or wall
         lines.append(f"| {workers} | {wall:.1f} | {runs:.1f} | {base / wall:.2f}× |")
         print(lines[-1], flush=True)
-    lines += ["", f"Both give the same `study.json` (also a test: `tests/test_study.py`).", ""]
+    lines += ["", "Both give the same `study.json` (also a test: `tests/test_study.py`).", ""]
     (ROOT / "docs" / "studies-results.md").write_text("\n".join(lines))
 
 

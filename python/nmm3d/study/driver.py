@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -50,22 +51,31 @@ class Study:
         plan = Plan(self._base, self.scenario.label, self.out, self.spec)
         t0 = time.perf_counter()
         with Pool(workers, scheduler) as pool:
-            def run(tasks: list[dict[str, Any]]) -> list[dict[str, Any]]:
-                shown.expect(len(tasks), _what(tasks))
-                records = pool.run(tasks, shown.finished)
-                plan.records.extend(records)
-                return records
-
             try:
-                outcome = KINDS[self.spec.kind](plan, run)
+                outcome = KINDS[self.spec.kind](plan, _runner(pool, plan, shown))
             finally:
                 shown.close()
-            execution = {"workers": pool.workers, "scheduler": scheduler or "local", "wall_seconds":
-                         time.perf_counter() - t0, "runs": len(plan.records),
-                         "reused_runs": sum(bool(r.get("reused")) for r in plan.records),
-                         "run_wall_seconds": sum(r["wall_seconds"] for r in plan.records if not r.get("reused"))}
+            execution = _execution(pool, scheduler, plan.records, time.perf_counter() - t0)
         report.write(self.out, self.spec, self.scenario.label, outcome, execution)
         return StudyResult(self.out)
+
+
+def _runner(pool: Pool, plan: Plan, shown: Progress) -> Callable[[list[dict[str, Any]]], list[dict[str, Any]]]:
+    """Run a batch of tasks on the pool, showing them and keeping their records in the plan."""
+    def run(tasks: list[dict[str, Any]]) -> list[dict[str, Any]]:
+        shown.expect(len(tasks), _what(tasks))
+        records = pool.run(tasks, shown.finished)
+        plan.records.extend(records)
+        return records
+
+    return run
+
+
+def _execution(pool: Pool, scheduler: str | None, records: list[dict[str, Any]], wall: float) -> dict[str, Any]:
+    """What ran the study (kept out of study.json, which must not depend on it)."""
+    fresh = [r for r in records if not r.get("reused")]
+    return {"workers": pool.workers, "scheduler": scheduler or "local", "wall_seconds": wall, "runs": len(records),
+            "reused_runs": len(records) - len(fresh), "run_wall_seconds": sum(r["wall_seconds"] for r in fresh)}
 
 
 def _what(tasks: list[dict[str, Any]]) -> str:

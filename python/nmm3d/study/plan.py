@@ -10,7 +10,6 @@ from __future__ import annotations
 import hashlib
 import json
 import math
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -27,8 +26,7 @@ class Plan:
     label: str                    #: file name used in messages
     out: Path                     #: the study's folder
     spec: StudySpec
-    on_done: Callable[[dict[str, Any]], None] = lambda record: None
-    records: list[dict[str, Any]] = field(default_factory=list)
+    records: list[dict[str, Any]] = field(default_factory=list)  #: every run's record, in order
 
     @property
     def criterion(self) -> dict[str, Any]:

@@ -83,5 +83,5 @@ def _verdict(status: str, capped: bool, name: str, lo: float, hi: float, frictio
         bound = f"above {hi}°" if friction else f"below {lo}"
         return "out_of_range", f"unstable over the whole range: the {what} is {bound}"
     if capped:
-        return "incomplete", f"study.max_runs reached before the bracket was within the tolerance"
+        return "incomplete", "study.max_runs reached before the bracket was within the tolerance"
     return "failed", "runs inside the bracket failed without telling stable from unstable (see study.csv)"
