@@ -64,7 +64,7 @@ def _runner(pool: Pool, plan: Plan, shown: Progress) -> Callable[[list[dict[str,
     """Run a batch of tasks on the pool, showing them and keeping their records in the plan."""
     def run(tasks: list[dict[str, Any]]) -> list[dict[str, Any]]:
         shown.expect(len(tasks), _what(tasks))
-        records = pool.run(tasks, shown.finished)
+        records = pool.run(tasks, shown.finished, shown.running)
         plan.records.extend(records)
         return records
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 import os
+import time
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -18,6 +19,7 @@ from typing import Any
 from nmm3d.study.runner import failed_record, run_task
 
 RECORD = "record.json"
+POLL_SECONDS = 0.5  #: how often the running runs are looked at [s]
 
 
 class Pool:
@@ -52,9 +54,11 @@ class Pool:
         if self._cluster is not None:
             self._cluster.close()
 
-    def run(self, tasks: list[dict[str, Any]], on_done: Callable[[dict[str, Any]], None]) -> list[dict[str, Any]]:
-        """Run the tasks not already finished (in ``task["out"]/record.json``); records in task order."""
-        from distributed import as_completed
+    def run(self, tasks: list[dict[str, Any]], on_done: Callable[[dict[str, Any]], None],
+            on_tick: Callable[[list[tuple[dict[str, Any], float | None]]], None] | None = None) -> list[dict[str, Any]]:
+        """Run the tasks not already finished (in ``task["out"]/record.json``); records in task
+        order. ``on_done(record)`` as each finishes; ``on_tick([(task, simulated time)])`` for the
+        running ones, about every ``POLL_SECONDS``."""
 
         records: dict[str, dict[str, Any]] = {}
         todo = []
@@ -67,19 +71,43 @@ class Pool:
             elif task["id"] not in {t["id"] for t in todo}:
                 todo.append(dict(task, threads=self.threads))
         by_key = {f"nmm3d-run-{t['id']}": t for t in todo}
-        futures = [self._client.submit(run_task, t, key=k, pure=False) for k, t in by_key.items()]
-        for future in as_completed(futures):
-            task = by_key[future.key]
-            try:
-                record = future.result()
-            except Exception as e:  # noqa: BLE001 — e.g. the worker process died (out of memory)
-                record = failed_record(task, f"the run was lost with its worker: {type(e).__name__}: {e}")
-            record["reused"] = False
-            if record["status"] != "failed" or record["steps"] > 0:
-                save_record(Path(task["out"]), record)  # a run lost with nothing to show is tried again
-            records[task["id"]] = record
-            on_done(record)
+        pending = [self._client.submit(run_task, t, key=k, pure=False) for k, t in by_key.items()]
+        while pending:
+            done = [f for f in pending if f.done()]
+            pending = [f for f in pending if not f.done()]
+            for future in done:
+                record = self._collect(future, by_key[future.key])
+                records[record["id"]] = record
+                on_done(record)
+            if pending and on_tick is not None:
+                on_tick([(by_key[f.key], simulated_time(by_key[f.key])) for f in pending])
+            if pending and not done:
+                time.sleep(POLL_SECONDS)
         return [records[t["id"]] for t in tasks]
+
+    @staticmethod
+    def _collect(future: Any, task: dict[str, Any]) -> dict[str, Any]:
+        try:
+            record = future.result()
+        except Exception as e:  # noqa: BLE001 — e.g. the worker process died (out of memory)
+            record = failed_record(task, f"the run was lost with its worker: {type(e).__name__}: {e}")
+        record["reused"] = False
+        if record["status"] != "failed" or record["steps"] > 0:
+            save_record(Path(task["out"]), record)  # a run lost with nothing to show is tried again
+        return record
+
+
+def simulated_time(task: dict[str, Any]) -> float | None:
+    """How far a running run has got: the last time in its history.csv, which a run rewrites
+    every few seconds (None before the first rewrite, or where the run's folder is not shared)."""
+    try:
+        with open(Path(task["out"]) / "history.csv", "rb") as f:
+            f.seek(0, os.SEEK_END)
+            f.seek(max(0, f.tell() - 4096))
+            last = f.read().decode(errors="replace").strip().splitlines()[-1]
+        return float(last.split(",", 1)[0])
+    except (OSError, IndexError, ValueError):
+        return None
 
 
 def load_record(task: dict[str, Any]) -> dict[str, Any] | None:

@@ -39,6 +39,18 @@ class Progress:
             print(f"study: run {self.done}/{max(self.total, self.done)} ({values}): {record['status']}, {verdict} ({how})",
                   file=self.stream, flush=True)
 
+    def running(self, runs: list[tuple[dict[str, Any], float | None]]) -> None:
+        """Each running run's simulated time, on the bar (a terminal only)."""
+        started = [(task, t) for task, t in runs if t is not None]
+        if self.bar is None or not started:
+            return
+        parts = []
+        for task, t in started[:4]:
+            values = ", ".join(f"{v:.4g}" if isinstance(v, float) else str(v) for v in task["values"].values())
+            end = task["criterion"]["time"]
+            parts.append(f"[{values}] t = {t:.3g}/{end:g} s")
+        self.bar.set_postfix_str("running " + "; ".join(parts))
+
     def close(self) -> None:
         if self.bar is not None:
             self.bar.close()
