@@ -177,3 +177,36 @@ def test_an_interrupted_study_resumes_without_rerunning_finished_runs(tmp_path):
     assert execution["reused_runs"] == len(finished) and execution["runs"] == 4
     assert all(f.stat().st_mtime_ns == t for f, t in finished.items())
     assert json.loads((out / "study.json").read_text())["runs"] == 4
+
+
+def test_a_study_runs_on_a_running_cluster(tmp_path):
+    """`--scheduler`: a scheduler and a worker started as a user would (`dask scheduler`,
+    `dask worker`), on loopback."""
+    import socket
+
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    address = f"tcp://127.0.0.1:{port}"
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
+    procs = [subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_scheduler", "--host", "127.0.0.1", "--port",
+                               str(port), "--no-dashboard"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]
+    try:
+        procs.append(subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_worker", address, "--nworkers", "1",
+                                       "--nthreads", "1", "--no-dashboard"], env=env, stdout=subprocess.DEVNULL,
+                                      stderr=subprocess.DEVNULL))
+        from distributed import Client
+
+        with Client(address, timeout=60) as client:
+            client.wait_for_workers(1, timeout=60)
+        r = nmm3d_cli("study", str(EXAMPLES / "tetrahedral_wedge.toml"), "--out", str(tmp_path), "--scheduler", address,
+                      "--set", "study.kind=sweep", "--set", "study.parameters={\"joint.j.friction_angle\" = [20.0, 40.0]}",
+                      "--set", "study.criterion.time=0.2")
+        assert r.returncode == 0, r.stderr
+        execution = json.loads((tmp_path / "execution.json").read_text())
+        assert execution["scheduler"] == address and execution["runs"] == 2
+        assert [row["unstable"] for row in json.loads((tmp_path / "study.json").read_text())["rows"]] == [True, False]
+    finally:
+        for p in procs:
+            p.terminate()
+            p.wait(timeout=30)
