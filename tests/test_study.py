@@ -210,3 +210,47 @@ def test_a_study_runs_on_a_running_cluster(tmp_path):
         for p in procs:
             p.terminate()
             p.wait(timeout=30)
+
+
+def two_wedges() -> nmm3d.Scenario:
+    """The example's wedge (50/130 + 50/230) and, 10 m east, a flatter one (40/130 + 40/230)."""
+    import numpy as np
+
+    from nmm3d.wedge import plane_normal
+
+    box = [[1, 0, 0, 4.0], [-1, 0, 0, 4.0], [0, 1, 0, 1.0], [0, -1, 0, 6.0], [0, 0, 1, 0.0], [0, 0, -1, 6.0]]
+    bodies = []
+    for name, dip, shift in (("a", 50.0, np.zeros(3)), ("b", 40.0, np.array([10.0, 0.0, 0.0]))):
+        na, nb = plane_normal(dip, 130.0), plane_normal(dip, 230.0)
+        moved = lambda p: [*map(float, p[:3]), float(p[3] + np.dot(p[:3], shift))]  # noqa: E731
+        rock = lambda n: [moved([*n, 0.0]), *(moved(np.array(b, float)) for b in box)]  # noqa: E731
+        bodies += [
+            {"name": f"rock_{name}1", "material": "rock", "fixed": True, "shape": {"convex": {"planes": rock(na)}}},
+            {"name": f"rock_{name}2", "material": "rock", "fixed": True, "shape": {"convex": {"planes": rock(nb)}}},
+            {"name": f"wedge_{name}", "material": "rock", "joint": "j", "shape": {"convex": {"planes": [
+                moved(np.array([*(-na), 0.0])), moved(np.array([*(-nb), 0.0])), moved(np.array([0, 0, 1, 0.0])),
+                moved(np.array([0, -1, 0, 2.0]))]}}},
+        ]
+    data = nmm3d.load(EXAMPLES / "tetrahedral_wedge.toml").to_dict()
+    data.update(body=bodies, monitor=[], study={"kind": "critical_friction", "range": [15.0, 45.0], "tolerance": 0.4,
+                                                "criterion": {"blocks": "all", "displacement": 0.001, "time": 0.5}})
+    return nmm3d.Scenario.from_dict(data)
+
+
+def test_a_per_block_search_gives_every_key_block_its_own_critical_angle(tmp_path):
+    scenario = two_wedges()
+    s = nmm3d.Study(scenario, tmp_path).run(workers=2).summary
+    assert s["status"] == "completed", s["message"]
+    blocks = scenario.blocks()
+    found = {b["id"]: b for b in s["blocks"]}
+    assert len(found) == 2, found
+    for dip in (50.0, 40.0):
+        exact = critical_friction_angle((dip, 130.0), (dip, 230.0))
+        x0 = 0.0 if dip == 50.0 else 10.0
+        block = next(int(i) for i, x, fixed in zip(blocks["id"], blocks["centroid_x"], blocks["fixed"])
+                     if not fixed and abs(x - x0) < 1.0)
+        assert found[block]["critical_friction_angle"] == pytest.approx(exact, abs=0.5), (dip, found[block])
+        assert found[block]["detach_time"] > 0.0
+    # the study's own value is the first block to go as φ falls: the steeper wedge
+    assert s["critical_friction_angle"] == pytest.approx(critical_friction_angle(*PLANES), abs=0.5)
+    assert (tmp_path / "blocks.png").is_file()
