@@ -185,3 +185,12 @@ def test_monte_carlo_samples_every_scattered_entry_reproducibly(tmp_path):
     # every sample is a valid scenario: the overrides go through the core's validation
     run = plan.task({"sample": 0, **many[0]}, [f"{k}={v!r}" for k, v in many[0].items()])
     assert run["id"] and "joint_set.0.dip=" in " ".join(run["overrides"])
+
+
+def test_a_monitor_follows_a_block_by_id_and_a_wrong_id_is_named(tmp_path, cube):
+    cube["monitor"] = [{"name": "b", "select": {"block": 0}, "quantities": ["displacement"]}]
+    r = nmm3d.Scenario.from_dict(cube).run(out=tmp_path / "ok")
+    assert r.summary["final"]["b.displacement.z"] == pytest.approx(-0.5 * 10.0 * 0.1**2, rel=1e-6)
+    cube["monitor"][0]["select"] = {"block": 7}
+    with pytest.raises(nmm3d.ScenarioError, match=r"monitor\.b\.select\.block: there is no block 7"):
+        nmm3d.Scenario.from_dict(cube).run(out=tmp_path / "bad")
