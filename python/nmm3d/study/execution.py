@@ -10,6 +10,7 @@ process, so a study started again reuses them, whatever machine ran them.
 from __future__ import annotations
 
 import json
+import logging
 import os
 import time
 from collections.abc import Callable
@@ -28,11 +29,11 @@ class Pool:
     def __init__(self, workers: int | None = None, scheduler: str | None = None) -> None:
         self.scheduler = scheduler
         self.workers = workers or os.cpu_count() or 1
+        self.threads: int | None = None  #: Rust threads per local worker (None: the cluster's own)
         self._cluster = None
         self._client = None
 
     def __enter__(self) -> "Pool":
-        import dask
         from distributed import Client, LocalCluster
 
         if self.scheduler:
@@ -41,10 +42,9 @@ class Pool:
             self.threads = None
         else:
             self.threads = max(1, (os.cpu_count() or 1) // self.workers)
-            with dask.config.set({"distributed.worker.daemon": False}):
-                self._cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1, processes=True,
-                                             dashboard_address=None, silence_logs=40,
-                                             env={"RAYON_NUM_THREADS": str(self.threads)})
+            self._cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1, processes=True,
+                                         dashboard_address=None, silence_logs=logging.ERROR,
+                                         env={"RAYON_NUM_THREADS": str(self.threads)})
             self._client = Client(self._cluster)
         return self
 
@@ -59,7 +59,6 @@ class Pool:
         """Run the tasks not already finished (in ``task["out"]/record.json``); records in task
         order. ``on_done(record)`` as each finishes; ``on_tick([(task, simulated time)])`` for the
         running ones, about every ``POLL_SECONDS``."""
-
         records: dict[str, dict[str, Any]] = {}
         todo = []
         for task in tasks:
