@@ -212,3 +212,26 @@ def test_rock_mass_blocks_of_the_small_scenario(tmp_path):
     r = nmm3d("blocks", str(write(tmp_path, ROCK)), "--out", str(tmp_path / "b"))
     assert r.returncode == 0, r.stderr
     assert "excavated volume" in r.stdout
+
+
+PANICS = GOOD + """
+[[excavation]]
+shape = { tunnel = { profile = "horseshoe", width = 0.4, height = 0.45, start = [0.5, -1.0, 0.5], end = [0.5, inf, 0.5] } }
+"""
+
+
+def test_a_defect_is_an_nmm_error_naming_the_phase_never_a_traceback(tmp_path):
+    # A tunnel end at infinity once made the core panic (a PanicException escaped to the user);
+    # panics are caught at the binding boundary. (Rejecting it as input is the reliability issue.)
+    p = write(tmp_path, PANICS)
+    for args in (["check", str(p)], ["blocks", str(p), "--out", str(tmp_path / "b")],
+                 ["run", str(p), "--out", str(tmp_path / "r")]):
+        r = nmm3d(*args)
+        assert r.returncode in (1, 2), r.stderr
+        assert "Traceback" not in r.stderr and "panicked" not in r.stderr, r.stderr
+        assert "internal error while loading the scenario" in r.stderr, r.stderr
+    import nmm3d as api
+
+    with pytest.raises(api.NmmError) as e:
+        api.load(p)
+    assert isinstance(e.value, api.InternalError) and "tunnel.rs" in str(e.value)

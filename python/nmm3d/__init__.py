@@ -7,12 +7,13 @@
 -5.0
 """
 
-from nmm3d._core import NmmError, OutputError, RunError, ScenarioError, __version__
+from nmm3d._core import InternalError, NmmError, OutputError, RunError, ScenarioError, __version__
 from nmm3d.result import Result
 from nmm3d.scenario import Scenario, load
 from nmm3d.study import Study, StudyResult
 
 __all__ = [
+    "InternalError",
     "NmmError",
     "OutputError",
     "Result",

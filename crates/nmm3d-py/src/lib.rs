@@ -18,28 +18,26 @@ static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 #[pyfunction]
 #[pyo3(signature = (path, overrides = Vec::new()))]
 fn load_file(py: Python<'_>, path: PathBuf, overrides: Vec<String>) -> PyResult<String> {
-    let s = py.detach(|| scenario::load_file(&path, &overrides)).map_err(errors::to_py)?;
-    Ok(serde_json::to_string(&s).expect("a scenario serialises"))
+    py.detach(|| errors::guard("loading the scenario", || scenario::load_file(&path, &overrides).map(|s| canonical(&s))))
 }
 
 /// Validate a scenario given as JSON text (`label` names it in messages); returns it canonical.
 #[pyfunction]
 #[pyo3(signature = (text, label, overrides = Vec::new()))]
 fn load_json(py: Python<'_>, text: String, label: String, overrides: Vec<String>) -> PyResult<String> {
-    let s = py.detach(|| scenario::from_json_str(&text, &label, &overrides)).map_err(errors::to_py)?;
-    Ok(serde_json::to_string(&s).expect("a scenario serialises"))
+    py.detach(|| errors::guard("loading the scenario", || scenario::from_json_str(&text, &label, &overrides).map(|s| canonical(&s))))
 }
 
 /// Run a scenario (JSON text) writing outputs to `out`; returns the summary as JSON text.
 #[pyfunction]
 #[pyo3(signature = (text, label, out, progress = false))]
 fn run_json(py: Python<'_>, text: String, label: String, out: PathBuf, progress: bool) -> PyResult<String> {
-    let outcome = py
-        .detach(|| {
+    let outcome = py.detach(|| {
+        errors::guard("running", || {
             let s = scenario::from_json_str(&text, &label, &[])?;
             simulation::run(s, &label, &RunOptions { out, progress })
         })
-        .map_err(errors::to_py)?;
+    })?;
     Ok(outcome.summary.to_string())
 }
 
@@ -48,25 +46,30 @@ fn run_json(py: Python<'_>, text: String, label: String, out: PathBuf, progress:
 #[pyfunction]
 #[pyo3(signature = (text, label, out = None))]
 fn blocks_json(py: Python<'_>, text: String, label: String, out: Option<PathBuf>) -> PyResult<String> {
-    let v = py
-        .detach(|| {
+    let v = py.detach(|| {
+        errors::guard("cutting the blocks", || {
             let s = scenario::from_json_str(&text, &label, &[])?;
             match out {
                 Some(dir) => nmm3d_core::blocks::report(&s, &dir),
                 None => Ok(nmm3d_core::blocks::table(&s)),
             }
         })
-        .map_err(errors::to_py)?;
+    })?;
     Ok(v.to_string())
 }
 
 /// Cut the rock mass and build its covers (no element matrices); counts and seconds as JSON.
 #[pyfunction]
 fn cover_report_json(py: Python<'_>, text: String, label: String) -> PyResult<String> {
-    let v = py
-        .detach(|| scenario::from_json_str(&text, &label, &[]).map(|s| nmm3d_core::blocks::cover_report(&s)))
-        .map_err(errors::to_py)?;
+    let v = py.detach(|| {
+        errors::guard("building the covers", || scenario::from_json_str(&text, &label, &[]).map(|s| nmm3d_core::blocks::cover_report(&s)))
+    })?;
     Ok(v.to_string())
+}
+
+/// The canonical scenario as JSON text (the values were validated, so it serialises).
+fn canonical(s: &scenario::Scenario) -> String {
+    serde_json::to_string(s).expect("a validated scenario serialises")
 }
 
 /// The native module `nmm3d._core`.
@@ -81,6 +84,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("ScenarioError", m.py().get_type::<errors::ScenarioError>())?;
     m.add("RunError", m.py().get_type::<errors::RunError>())?;
     m.add("OutputError", m.py().get_type::<errors::OutputError>())?;
+    m.add("InternalError", m.py().get_type::<errors::InternalError>())?;
+    errors::keep_panics_quiet();
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -39,11 +39,7 @@ def run_task(task: dict[str, Any]) -> dict[str, Any]:
                       time=summary["time"])
         record.update(judge(out, monitors, task["criterion"], summary["status"] == "completed"))
     except Exception as e:  # noqa: BLE001 — a failed run is a row with its reason, never a crash of the study
-        record = failed_record(task, f"{type(e).__name__}: {e}" if not isinstance(e, _core.NmmError) else str(e))
-    except BaseException as e:  # a Rust panic (pyo3's PanicException) is a BaseException
-        if isinstance(e, (KeyboardInterrupt, SystemExit)):
-            raise
-        record = failed_record(task, f"internal error: {e}")
+        record = failed_record(task, str(e) if isinstance(e, _core.NmmError) else f"{type(e).__name__}: {e}")
     record["wall_seconds"] = time.perf_counter() - t0
     return record
 
