@@ -194,3 +194,30 @@ def test_a_monitor_follows_a_block_by_id_and_a_wrong_id_is_named(tmp_path, cube)
     cube["monitor"][0]["select"] = {"block": 7}
     with pytest.raises(nmm3d.ScenarioError, match=r"monitor\.b\.select\.block: there is no block 7"):
         nmm3d.Scenario.from_dict(cube).run(out=tmp_path / "bad")
+
+
+def test_the_progress_bar_shows_runs_the_bracket_and_each_running_run():
+    import io
+
+    from nmm3d.study.progress import Progress
+
+    class Terminal(io.StringIO):
+        def isatty(self) -> bool:
+            return True
+
+    screen = Terminal()
+    shown = Progress(True, screen)
+    assert shown.shows_running and not Progress(True, io.StringIO()).shows_running  # logs: no polling
+    shown.expect(2, "bracket [20, 45]")
+    task = {"values": {"value": 32.5}, "criterion": {"time": 1.0}}
+    shown.running([(task, 0.42), (task, None)])
+    shown.finished({"values": {"value": 32.5}, "unstable": {"any": True}, "status": "completed", "wall_seconds": 1.0})
+    shown.close()
+    text = screen.getvalue()
+    assert "bracket [20, 45]" in text and "1/2" in text
+    assert "[32.5] t = 0.42/1 s" in text and "value = 32.5: unstable" in text
+    log = io.StringIO()
+    lines = Progress(True, log)
+    lines.expect(1)
+    lines.finished({"values": {"value": 32.5}, "unstable": {"any": False}, "status": "completed", "wall_seconds": 2.0})
+    assert log.getvalue() == "study: run 1/1 (value = 32.5): completed, stable (2.0 s)\n"

@@ -52,21 +52,19 @@ class Study:
         t0 = time.perf_counter()
         with Pool(workers, scheduler) as pool:
             try:
-                outcome = KINDS[self.spec.kind](plan, _runner(pool, plan, shown))
+                outcome = KINDS[self.spec.kind](plan, _runner(pool, shown))
             finally:
                 shown.close()
-            execution = _execution(pool, scheduler, plan.records, time.perf_counter() - t0)
+            execution = _execution(pool, scheduler, outcome["records"], time.perf_counter() - t0)
         report.write(self.out, self.spec, self.scenario.label, outcome, execution)
         return StudyResult(self.out)
 
 
-def _runner(pool: Pool, plan: Plan, shown: Progress) -> Callable[[list[dict[str, Any]]], list[dict[str, Any]]]:
-    """Run a batch of tasks on the pool, showing them and keeping their records in the plan."""
+def _runner(pool: Pool, shown: Progress) -> Callable[[list[dict[str, Any]]], list[dict[str, Any]]]:
+    """Run a batch of tasks on the pool, showing them."""
     def run(tasks: list[dict[str, Any]]) -> list[dict[str, Any]]:
         shown.expect(len(tasks), _what(tasks))
-        records = pool.run(tasks, shown.finished, shown.running)
-        plan.records.extend(records)
-        return records
+        return pool.run(tasks, shown.finished, shown.running if shown.shows_running else None)
 
     return run
 

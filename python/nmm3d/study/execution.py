@@ -60,16 +60,16 @@ class Pool:
         order. ``on_done(record)`` as each finishes; ``on_tick([(task, simulated time)])`` for the
         running ones, about every ``POLL_SECONDS``."""
         records: dict[str, dict[str, Any]] = {}
-        todo = []
+        todo: dict[str, dict[str, Any]] = {}
         for task in tasks:
             old = load_record(task)
             if old is not None:
                 old["reused"] = True
                 records[task["id"]] = old
                 on_done(old)
-            elif task["id"] not in {t["id"] for t in todo}:
-                todo.append(dict(task, threads=self.threads))
-        by_key = {f"nmm3d-run-{t['id']}": t for t in todo}
+            else:
+                todo.setdefault(task["id"], dict(task, threads=self.threads))
+        by_key = {f"nmm3d-run-{t['id']}": t for t in todo.values()}
         pending = [self._client.submit(run_task, t, key=k, pure=False) for k, t in by_key.items()]
         while pending:
             done = [f for f in pending if f.done()]
@@ -79,7 +79,8 @@ class Pool:
                 records[record["id"]] = record
                 on_done(record)
             if pending and on_tick is not None:
-                on_tick([(by_key[f.key], simulated_time(by_key[f.key])) for f in pending])
+                # the first few pending futures are the running ones (submission order)
+                on_tick([(by_key[f.key], simulated_time(by_key[f.key])) for f in pending[: 2 * self.workers]])
             if pending and not done:
                 time.sleep(POLL_SECONDS)
         return [records[t["id"]] for t in tasks]

@@ -10,7 +10,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -20,13 +20,12 @@ from nmm3d.study.spec import StudySpec
 
 @dataclass
 class Plan:
-    """What every run of one study shares, and the tasks made so far."""
+    """What every run of one study shares."""
 
     scenario: dict[str, Any]      #: canonical scenario without its study table
     label: str                    #: file name used in messages
     out: Path                     #: the study's folder
     spec: StudySpec
-    records: list[dict[str, Any]] = field(default_factory=list)  #: every run's record, in order
 
     @property
     def criterion(self) -> dict[str, Any]:

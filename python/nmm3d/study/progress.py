@@ -39,6 +39,11 @@ class Progress:
             print(f"study: run {self.done}/{max(self.total, self.done)} ({values}): {record['status']}, {verdict} ({how})",
                   file=self.stream, flush=True)
 
+    @property
+    def shows_running(self) -> bool:
+        """Whether running runs are shown (a bar on a terminal): only then are they looked at."""
+        return self.bar is not None
+
     def running(self, runs: list[tuple[dict[str, Any], float | None]]) -> None:
         """Each running run's simulated time, on the bar (a terminal only)."""
         started = [(task, t) for task, t in runs if t is not None]

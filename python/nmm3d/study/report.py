@@ -22,7 +22,7 @@ def row(record: dict[str, Any], out: Path) -> dict[str, Any]:
     """The deterministic part of a run's record, as the study reports it."""
     verdict = record["unstable"].get("any")
     failed = sorted(block_id(t) for t, v in record["unstable"].items() if v and block_id(t) is not None)
-    return {"id": record["id"], **{k: v for k, v in record["values"].items()}, "status": record["status"],
+    return {"id": record["id"], **record["values"], "status": record["status"],
             "unstable": verdict, "displacement": record.get("displacement"), "failed_blocks": failed,
             "detach_times": record.get("detach", {}), "message": record["message"],
             "folder": os.path.relpath(Path(out) / "runs" / record["id"], out)}

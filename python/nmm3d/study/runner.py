@@ -97,7 +97,7 @@ def judge(out: Path, targets: dict[str, str], criterion: dict[str, Any], complet
         if beyond.any():
             detach[target] = float(t[int(beyond.argmax())])
         unstable[target] = bool(mag[-1] > limit) if completed else (True if beyond.any() else None)
-    verdicts = [v for v in unstable.values()]
+    verdicts = list(unstable.values())
     unstable["any"] = True if any(v is True for v in verdicts) else (
         None if any(v is None for v in verdicts) or not verdicts else False)
     values = [v for v in final.values() if math.isfinite(v)]
