@@ -314,15 +314,20 @@ impl ContactSet {
         }
     }
 
-    /// Update every point from the solved increments `d`; returns how many changed state.
-    pub fn update_states(&mut self, sys: &System, d: &[Vec3]) -> usize {
+    /// Update every point from the solved increments `d`: how many changed state, and how far
+    /// the forces the solve applied are from the forces of the updated states (summed over the
+    /// points, relative to the sum of the updated forces).
+    pub fn update_states(&mut self, sys: &System, d: &[Vec3]) -> (usize, f64) {
         let locked = self.locked;
         let band = GAP_BAND * self.params.size;
         let reclose = RECLOSE_DEPTH * self.params.tolerance;
         let mut changed = 0;
         // Largest change of a sliding point's friction force, and the largest friction limit.
         let (mut turned, mut largest) = (0.0f64, 0.0f64);
+        let (mut mismatch, mut total) = (0.0f64, 0.0f64);
         for r in &mut self.records {
+            // The spring this solve used, linearised about the last iterate.
+            let (block, constant) = r.spring();
             let inc = |mp: &MaterialPoint| -> Vec3 { sys.covers.elements[mp.element].covers.iter().zip(&mp.weights).map(|(&c, w)| *w * d[c]).sum() };
             // The friction this solve used (linearised about the last iterate).
             let used = (r.state == ContactState::Slide).then(|| r.friction().0);
@@ -379,6 +384,8 @@ impl ContactSet {
                 ContactState::Stick => r.preload - kn * r.gap * n - ks * shear,
                 ContactState::Slide => n * n.dot(&r.preload) - kn * r.gap * n + r.friction().0,
             };
+            mismatch += (constant - block * r.rel - r.force).norm();
+            total += r.force.norm();
         }
         // The friction was linearised about the last iterate (its magnitude from the last
         // normal force, its direction from the last trial): if some sliding point's friction
@@ -387,7 +394,7 @@ impl ContactSet {
         if turned > SLIP_TURN * largest {
             changed += 1;
         }
-        changed
+        (changed, if total > 0.0 { mismatch / total } else { 0.0 })
     }
 
     /// After an accepted step: carry the shear-spring extension. A sliding point's spring is

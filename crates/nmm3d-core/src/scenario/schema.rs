@@ -147,6 +147,10 @@ pub struct Analysis {
     pub max_open_close: u32,
     /// Factor applied to Δt when the open–close iteration does not settle [-].
     pub open_close_cut: f64,
+    /// The open–close iteration has settled when the contact forces the last solve applied
+    /// differ from those of the updated states by at most this fraction of their sum [-]
+    /// (0, the default: only when no point changes state; 1e-3 suits jointed rock masses).
+    pub open_close_tolerance: f64,
     /// Strain measure: "corotational" (small strain in each ME's rotated frame) or
     /// "green_lagrange" (St Venant–Kirchhoff for large strains).
     pub strain_measure: StrainMeasure,
@@ -205,6 +209,7 @@ impl Default for Analysis {
             ordering: Ordering::Auto,
             max_open_close: 12,
             open_close_cut: 0.3,
+            open_close_tolerance: 0.0,
             initial_equilibrium: false,
         }
     }

@@ -92,6 +92,9 @@ fn analysis(c: &mut Checker, a: &Analysis) {
     if a.max_open_close == 0 {
         c.fail("analysis.max_open_close", "must be at least 1");
     }
+    if !(a.open_close_tolerance >= 0.0 && a.open_close_tolerance < 1.0) {
+        c.fail("analysis.open_close_tolerance", "must lie in [0, 1)");
+    }
     if !(a.open_close_cut > 0.0 && a.open_close_cut < 1.0) {
         c.fail("analysis.open_close_cut", "must lie in (0, 1)");
     }
