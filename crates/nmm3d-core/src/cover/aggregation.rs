@@ -38,11 +38,18 @@ pub fn tie_ill_posed(covers: &Covers, fixed_block: &[bool], threshold: f64) -> V
         me.covers.iter().for_each(|&c| anchored[c] = true);
         roots.entry((me.block, me.cell)).or_default().push(e);
     }
+    let mut reach: HashMap<usize, ([i32; 3], [i32; 3])> = HashMap::new();
+    for &(block, cell) in roots.keys() {
+        let (lo, hi) = reach.entry(block).or_insert((cell, cell));
+        for k in 0..3 {
+            (lo[k], hi[k]) = (lo[k].min(cell[k]), hi[k].max(cell[k]));
+        }
+    }
     for (c, cover) in covers.covers.iter().enumerate() {
         if anchored[c] || fixed_block[cover.block] {
             continue;
         }
-        if let Some(root) = nearest_root(covers, &roots, cover.block, cover.node, &cover.position) {
+        if let Some(root) = nearest_root(covers, &roots, &reach, cover.block, cover.node, &cover.position) {
             let me = &covers.elements[root];
             let xi = covers.mesh.to_local(&cover.position) - cell_corner(me.cell);
             let w = covers.weights(me).iter().map(|p| p.eval(&xi));
@@ -52,11 +59,15 @@ pub fn tie_ill_posed(covers: &Covers, fixed_block: &[bool], threshold: f64) -> V
     tied
 }
 
-fn nearest_root(covers: &Covers, roots: &HashMap<(usize, [i32; 3]), Vec<usize>>, block: usize, node: [i32; 3], x: &Vec3) -> Option<usize> {
+fn nearest_root(covers: &Covers, roots: &HashMap<(usize, [i32; 3]), Vec<usize>>, reach: &HashMap<usize, ([i32; 3], [i32; 3])>, block: usize, node: [i32; 3], x: &Vec3) -> Option<usize> {
     let centre = [node[0].div_euclid(2), node[1].div_euclid(2), node[2].div_euclid(2)];
+    // No ring beyond the block's farthest root cell can hold a root: a block without roots (a
+    // sliver whose every ME is ill-posed) is answered at once instead of after 129³ cells.
+    let (lo, hi) = reach.get(&block)?;
+    let farthest = (0..3).map(|k| (centre[k] - lo[k]).abs().max((hi[k] - centre[k]).abs())).max().unwrap_or(0);
     let mut best: Option<(f64, usize)> = None;
     let mut found_at = None;
-    for r in 0..=SEARCH_RADIUS {
+    for r in 0..=SEARCH_RADIUS.min(farthest) {
         for cell in ring(centre, r) {
             for &e in roots.get(&(block, cell)).into_iter().flatten() {
                 let d = (element_centroid(covers, &covers.elements[e]) - x).norm();
