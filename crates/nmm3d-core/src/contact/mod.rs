@@ -101,6 +101,9 @@ pub struct ContactRecord {
     pub kn: f64,
     /// Shear penalty of this point [N/m].
     pub ks: f64,
+    /// The penalties are the joint's own stiffness (Pa/m × area): physical, never raised, and
+    /// the overlap they allow is the joint's closure, not a penetration error.
+    pub joint_stiffness: bool,
     /// In-situ traction on A times the area [N] (zero once the point has opened).
     pub preload: Vec3,
     /// Gap after the last solve [m].
@@ -423,7 +426,7 @@ impl ContactSet {
     /// corner that came in during the last step without a point, detected now — is being pushed
     /// out; no smaller step can undo an overlap that is there at the start.)
     pub fn overlap_growing_beyond(&self, depth: f64) -> bool {
-        self.records.iter().any(|r| r.state != ContactState::Open && -r.gap > depth && r.gap < r.gap0)
+        self.records.iter().any(|r| r.state != ContactState::Open && !r.joint_stiffness && -r.gap > depth && r.gap < r.gap0)
     }
 
     /// Largest penetration among closed points [m].
@@ -646,6 +649,14 @@ impl ContactRecord {
         let bonded = initial && touching;
         let area = q.area;
         let strength = |f: fn(&Joint) -> f64| if bonded { joint.map_or(0.0, f) * area } else { 0.0 };
+        let (kn, ks, joint_stiffness) = match joint.and_then(Joint::stiffness) {
+            // Per unit area × the point's area (a point contact: one cover cell's face).
+            Some((kn, ks)) => {
+                let a = if area > 0.0 { area } else { p.size * p.size };
+                (kn * a, ks * a, true)
+            }
+            None => (p.kn * stiffness_share(area, p.size), p.ks * stiffness_share(area, p.size), false),
+        };
         Self {
             blocks,
             mode: q.mode,
@@ -661,8 +672,9 @@ impl ContactRecord {
                 tension: strength(|j| j.tensile_strength),
             },
             area,
-            kn: p.kn * stiffness_share(area, p.size),
-            ks: p.ks * stiffness_share(area, p.size),
+            kn,
+            ks,
+            joint_stiffness,
             preload: if bonded { in_situ_traction(sys, &q.on_a, &normal) * area } else { Vec3::zeros() },
             gap: q.gap,
             rel: Vec3::zeros(),
@@ -680,8 +692,12 @@ impl ContactRecord {
         (self.a.element.min(self.b.element), self.a.element.max(self.b.element))
     }
 
-    /// Multiply the point's penalties by `factor`; the shear spring keeps its force.
+    /// Multiply the point's penalties by `factor`; the shear spring keeps its force. A joint's
+    /// own stiffness is physical and stays.
     pub fn stiffen(&mut self, factor: f64) {
+        if self.joint_stiffness {
+            return;
+        }
         self.kn *= factor;
         self.ks *= factor;
         self.shear0 /= factor;

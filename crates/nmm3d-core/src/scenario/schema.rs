@@ -356,6 +356,22 @@ pub struct Joint {
     /// Tensile strength [Pa].
     #[serde(default)]
     pub tensile_strength: f64,
+    /// Normal stiffness per unit joint area [Pa/m] (as 3DEC and UDEC take it); absent: the
+    /// contact penalty `contact.normal_stiffness`.
+    #[serde(default)]
+    pub normal_stiffness: Option<f64>,
+    /// Shear stiffness per unit joint area [Pa/m]; absent: the normal stiffness when that is
+    /// given, else the contact penalty `contact.shear_stiffness`.
+    #[serde(default)]
+    pub shear_stiffness: Option<f64>,
+}
+
+impl Joint {
+    /// The joint's own (normal, shear) stiffness per unit area [Pa/m], when it has one.
+    pub fn stiffness(&self) -> Option<(f64, f64)> {
+        let kn = self.normal_stiffness?;
+        Some((kn, self.shear_stiffness.unwrap_or(kn)))
+    }
 }
 
 /// `[[body]]`.

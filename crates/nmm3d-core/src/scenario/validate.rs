@@ -134,6 +134,14 @@ fn joints(c: &mut Checker, s: &Scenario) {
         if !(j.tensile_strength >= 0.0) {
             c.fail(format!("{p}.tensile_strength"), "must be ≥ 0");
         }
+        for (key, k) in [("normal_stiffness", j.normal_stiffness), ("shear_stiffness", j.shear_stiffness)] {
+            if k.is_some_and(|k| !(k > 0.0 && k.is_finite())) {
+                c.fail(format!("{p}.{key}"), format!("must be a positive stiffness per unit area in Pa/m, got {}", k.unwrap_or_default()));
+            }
+        }
+        if j.shear_stiffness.is_some() && j.normal_stiffness.is_none() {
+            c.fail(format!("{p}.shear_stiffness"), "needs normal_stiffness on the same joint (a joint's stiffness is given whole, in Pa/m)");
+        }
     }
 }
 

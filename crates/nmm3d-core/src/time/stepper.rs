@@ -11,7 +11,7 @@ use nmm3d_geom::Vec3;
 
 use super::contact_pattern::ContactPattern;
 use super::corotation;
-use super::integrator::Newmark;
+use super::integrator::{Newmark, StepCoefficients};
 use super::step_control::{self, Verdict};
 use crate::contact::{overlap_problems, ContactParams, ContactSet};
 use crate::error::{Error, Result};
@@ -67,6 +67,9 @@ pub struct Stepper {
     force_scale: f64,
     /// Contacts locked (initial equilibrium): closed points stick whatever the force.
     locked: bool,
+    /// Steps carry the inertia term; without it a step is a Newton iteration of the static
+    /// equilibrium (the initial equilibrium's first try).
+    inertia: bool,
     /// Step cuts because a contact overlapped beyond the allowed depth.
     pub penetration_cuts: u64,
     /// Times the contact penalties were raised because a contact overlapped too deep.
@@ -97,6 +100,7 @@ impl Stepper {
             values: vec![0.0; nnz],
             force_scale: 0.0,
             locked: false,
+            inertia: true,
             penetration_cuts: 0,
             penalty_raises: 0,
             times: PhaseTimes::default(),
@@ -168,7 +172,7 @@ impl Stepper {
         let mut dt = state.dt.min(dt_cap);
         let (mut cuts, mut trials) = (0, 0);
         loop {
-            let k = self.newmark.coefficients(dt);
+            let k = if self.inertia { self.newmark.coefficients(dt) } else { StepCoefficients { c0: 0.0, c1: 0.0, c2: 0.0 } };
             // Every trial starts from the step's start states (the first one has them already).
             trials += 1;
             if let (Some(c), Some(saved), true) = (self.contacts.as_mut(), start_records.as_ref(), trials > 1) {
@@ -227,17 +231,30 @@ impl Stepper {
     /// Static equilibrium under the initial loads with every contact locked — the stressed
     /// state a run starts from (the usual first stage of a jointed-rock model). Velocities,
     /// time and step count are restored afterwards; returns (steps, final unbalanced ratio).
+    ///
+    /// First by Newton iterations of the static equilibrium (no inertia: the locked springs
+    /// hold every touching block, so a few iterations suffice, however soft the joints). Where
+    /// that cannot work — a block held by nothing makes the matrix singular, or an iteration
+    /// moves too far — it goes on as before, by implicit steps whose velocity is reset each
+    /// step: the mass term regularises, at the cost of many steps for soft, rocking modes.
     pub fn settle(&mut self, sys: &System, state: &mut State) -> Result<(u64, f64)> {
         let (v, a, dt) = (state.v.clone(), state.a.clone(), state.dt);
         state.v.iter_mut().chain(state.a.iter_mut()).for_each(|x| *x = Vec3::zeros());
         self.lock(true);
         let analysis = &sys.scenario.analysis;
         let (mut steps, mut unbalanced) = (0, f64::INFINITY);
+        self.inertia = false;
         while steps < analysis.max_steps {
-            let r = self.step(sys, state, f64::INFINITY);
-            let r = match r {
-                Ok(r) => r,
-                Err(e) => {
+            let r = match (self.step(sys, state, f64::INFINITY), self.inertia) {
+                (Ok(r), true) => r,
+                (Ok(r), false) if r.cuts == 0 => r,
+                (Ok(_) | Err(_), false) => {
+                    // Not statically solvable as it stands: regularise with the mass term.
+                    self.inertia = true;
+                    state.dt = dt;
+                    continue;
+                }
+                (Err(e), true) => {
                     self.lock(false);
                     return Err(e);
                 }
@@ -248,6 +265,7 @@ impl Stepper {
                 break;
             }
         }
+        self.inertia = true;
         self.lock(false);
         (state.v, state.a, state.dt, state.time, state.step) = (v, a, dt, 0.0, 0);
         Ok((steps, unbalanced))
