@@ -255,8 +255,31 @@ fn summary(sys: &System, state: &State, stepper: &Stepper, rec: &Recorder, compl
         "pattern_rebuilds": stepper.pattern_rebuilds(),
         "factor_nonzeros": stepper.factor_nonzeros(),
         "unbalanced_force_ratio": rec.last_unbalanced,
+        "energy": energy_summary(stepper.energy.as_ref(), &rec.diagnostics),
         "stress_sign": "compression negative",
         "timings": Value::Object(timings),
         "final": Value::Object(rec.final_values()),
     })
 }
+
+/// The energy accounts at the end [J], the largest balance error over the run relative to the
+/// largest account of the run, and a warning when it exceeds [`ENERGY_ERROR_BOUND`]; `null`
+/// for runs without accounts (static).
+fn energy_summary(end: Option<&crate::time::Energy>, rows: &[(f64, u64, crate::time::StepReport)]) -> Value {
+    let Some(e) = end else { return Value::Null };
+    // Relative to the largest account of the whole run: early steps, with little energy yet,
+    // would otherwise make round-off look large.
+    let scale = rows.iter().map(|(_, _, r)| r.energy.largest()).fold(0.0, f64::max);
+    let worst = rows.iter().map(|(t, _, r)| (r.energy.error().abs() / scale.max(f64::MIN_POSITIVE), *t)).fold((0.0, 0.0), |m, x| if x.0 > m.0 { x } else { m });
+    let warning = (worst.0 > ENERGY_ERROR_BOUND).then(|| {
+        format!("the energy balance error reached {:.1} % of the largest energy account at t = {:.6} s (bound {:.0} %): look for impacts in diagnostics.csv", 100.0 * worst.0, worst.1, 100.0 * ENERGY_ERROR_BOUND)
+    });
+    json!({
+        "kinetic": e.kinetic, "elastic": e.elastic, "external_work": e.external_work, "contact": e.contact,
+        "friction_dissipation": e.friction, "numerical_dissipation": e.numerical, "error": e.error(),
+        "max_error_ratio": worst.0, "max_error_time": worst.1, "warning": warning,
+    })
+}
+
+/// Balance error, relative to the largest energy account, beyond which a run is warned about.
+const ENERGY_ERROR_BOUND: f64 = 0.05;

@@ -78,6 +78,19 @@ impl SparsityPattern {
         self.row_idx.len()
     }
 
+    /// xᵀ A x for the symmetric matrix whose lower triangle `values` holds on this pattern.
+    pub fn quadratic_form(&self, values: &[f64], x: &[f64]) -> f64 {
+        let mut sum = 0.0;
+        for j in 0..self.n {
+            for p in self.col_ptr[j] as usize..self.col_ptr[j + 1] as usize {
+                let i = self.row_idx[p] as usize;
+                let v = values[p] * x[i] * x[j];
+                sum += if i == j { v } else { 2.0 * v };
+            }
+        }
+        sum
+    }
+
     /// Blocks of rows (≥ b) coupled to block b.
     fn block_rows(&self, b: usize) -> impl Iterator<Item = u32> + '_ {
         self.row_idx[self.col_ptr[3 * b] as usize..self.col_ptr[3 * b + 1] as usize].iter().step_by(3).map(|r| r / 3)

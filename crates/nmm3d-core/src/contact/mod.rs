@@ -403,15 +403,33 @@ impl ContactSet {
     /// After an accepted step: carry the shear-spring extension. A sliding point's spring is
     /// left at the Coulomb limit, so the force is continuous when it sticks again (a reset
     /// spring would drop the friction force at every stick–slip flip and ratchet the block).
-    pub fn accept(&mut self) {
+    /// Returns the energy friction dissipated in the step: at each sliding point the limit
+    /// times the slip beyond the spring's elastic change [J].
+    pub fn accept(&mut self) -> f64 {
+        let mut dissipated = 0.0;
         for r in &mut self.records {
             let t = tangential(&r.normal);
-            r.shear0 = match r.state {
+            let shear = match r.state {
                 ContactState::Stick => r.shear0 + t * r.rel,
                 ContactState::Slide => (t * r.preload + r.limit * r.slip) / r.ks,
                 ContactState::Open => Vec3::zeros(),
             };
+            if r.state == ContactState::Slide {
+                dissipated += r.limit * (t * r.rel - (shear - r.shear0)).norm();
+            }
+            r.shear0 = shear;
         }
+        dissipated
+    }
+
+    /// Energy in the springs of the closed points: ½ k_n g² for an overlap, ½ k_s |s|² [J]
+    /// (after `accept`; an in-situ preload's share is not counted).
+    pub fn spring_energy(&self) -> f64 {
+        self.records
+            .iter()
+            .filter(|r| r.state != ContactState::Open)
+            .map(|r| 0.5 * r.kn * r.gap.min(0.0).powi(2) + 0.5 * r.ks * r.shear0.norm_squared())
+            .sum()
     }
 
     /// Multiply every penalty by `factor` (new points too), keeping the shear springs' forces.

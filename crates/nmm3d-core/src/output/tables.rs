@@ -62,11 +62,15 @@ impl History {
 }
 
 /// Write `diagnostics.csv`: per accepted step the time step, the rejected trials, the
-/// displacement ratio and the unbalanced force ratio at the start of the step.
+/// displacement ratio, the unbalanced force ratio at the start of the step, and the energy
+/// accounts after it [J] (`crate::time::energy`; zero in static runs).
 pub fn write_diagnostics(dir: &Path, rows: &[(f64, u64, crate::time::StepReport)]) -> Result<()> {
-    let mut s = String::from("time,step,dt,cuts,displacement_ratio,unbalanced_force_ratio\n");
+    let mut s = String::from(
+        "time,step,dt,cuts,displacement_ratio,unbalanced_force_ratio,kinetic_energy,elastic_energy,external_work,contact_energy,friction_dissipation,numerical_dissipation,energy_error\n",
+    );
     for (t, step, r) in rows {
-        let _ = writeln!(s, "{t},{step},{},{},{},{}", r.dt, r.cuts, r.ratio, r.unbalanced);
+        let e = &r.energy;
+        let _ = writeln!(s, "{t},{step},{},{},{},{},{},{},{},{},{},{},{}", r.dt, r.cuts, r.ratio, r.unbalanced, e.kinetic, e.elastic, e.external_work, e.contact, e.friction, e.numerical, e.error());
     }
     atomic::write(&dir.join("diagnostics.csv"), s.as_bytes())
 }

@@ -2,9 +2,11 @@
 
 pub mod contact_pattern;
 pub mod corotation;
+pub mod energy;
 pub mod integrator;
 pub mod step_control;
 pub mod stepper;
 
+pub use energy::Energy;
 pub use integrator::Newmark;
 pub use stepper::{StepReport, Stepper};

@@ -11,6 +11,7 @@ use nmm3d_geom::Vec3;
 
 use super::contact_pattern::ContactPattern;
 use super::corotation;
+use super::energy::{Energy, StepEnergy};
 use super::integrator::{Newmark, StepCoefficients};
 use super::step_control::{self, Verdict};
 use crate::contact::{overlap_problems, ContactParams, ContactSet};
@@ -37,6 +38,8 @@ pub struct StepReport {
     pub ratio: f64,
     /// Unbalanced force / force scale at the start of the step.
     pub unbalanced: f64,
+    /// Energy accounts after the step (dynamic runs; zero otherwise).
+    pub energy: Energy,
 }
 
 /// Seconds spent per phase.
@@ -76,6 +79,8 @@ pub struct Stepper {
     pub penalty_raises: u32,
     /// Time per phase so far.
     pub times: PhaseTimes,
+    /// Energy accounts of the run so far (dynamic runs, from the first step on).
+    pub energy: Option<Energy>,
 }
 
 impl Stepper {
@@ -104,6 +109,7 @@ impl Stepper {
             penetration_cuts: 0,
             penalty_raises: 0,
             times: PhaseTimes::default(),
+            energy: None,
         };
         stepper.ensure_contact_pattern(sys, 0);
         Ok(stepper)
@@ -157,14 +163,12 @@ impl Stepper {
         self.ensure_contact_pattern(sys, state.step);
         let t = Instant::now();
         let residual = self.assemble(sys, state);
-        let unbalanced = match self.contacts.as_ref() {
-            Some(c) => {
-                let mut total = residual.clone();
-                c.add_start_forces(sys, &mut total);
-                self.unbalanced_ratio(sys, &total)
-            }
-            None => self.unbalanced_ratio(sys, &residual),
-        };
+        // The unbalanced force at the start, contacts included: M a₀ of a dynamic step.
+        let mut start_force = residual.clone();
+        if let Some(c) = self.contacts.as_ref() {
+            c.add_start_forces(sys, &mut start_force);
+        }
+        let unbalanced = self.unbalanced_ratio(sys, &start_force);
         let (mv, ma) = (mass_times(sys, &state.v), mass_times(sys, &state.a));
         let mut start_records = self.contacts.as_ref().map(|c| c.records.clone());
         self.times.assembly += t.elapsed().as_secs_f64();
@@ -199,16 +203,21 @@ impl Stepper {
             }
             match verdict {
                 Verdict::Accept => {
+                    let kinetic0 = kinetic_energy(sys, &state.v, &mv);
                     self.accept(sys, state, &d, dt);
-                    let (contacts, max_penetration) = match self.contacts.as_mut() {
+                    let (contacts, max_penetration, friction, springs) = match self.contacts.as_mut() {
                         Some(c) => {
-                            c.accept();
-                            (c.records.len(), c.max_penetration())
+                            let friction = c.accept();
+                            (c.records.len(), c.max_penetration(), friction, c.spring_energy())
                         }
-                        None => (0, 0.0),
+                        None => (0, 0.0, 0.0, 0.0),
                     };
                     state.dt = step_control::next_dt(analysis, dt, ratio);
-                    return Ok(StepReport { dt, cuts, ratio, unbalanced, contacts, open_close: iterations, max_penetration });
+                    // M a₀: the scheme's acceleration at the start (the last step's end), except at
+                    // the first step, where the unbalanced force stands for it.
+                    let m_a0 = if self.energy.is_some() { &ma } else { &start_force };
+                    let energy = self.account(sys, state, &Increment { d: &d, residual: &residual, m_a0, kinetic0, friction, springs });
+                    return Ok(StepReport { dt, cuts, ratio, unbalanced, contacts, open_close: iterations, max_penetration, energy });
                 }
                 Verdict::Retry(smaller) => {
                     dt = smaller;
@@ -226,6 +235,26 @@ impl Stepper {
                 }
             }
         }
+    }
+
+    /// Add an accepted step to the energy accounts (dynamic runs outside the initial
+    /// equilibrium; see [`super::energy`]) and return them.
+    fn account(&mut self, sys: &System, state: &State, s: &Increment) -> Energy {
+        if self.locked || sys.scenario.analysis.kind == AnalysisKind::Static {
+            return Energy::default();
+        }
+        let dot = |f: &[Vec3]| -> f64 { s.d.iter().zip(f).map(|(d, f)| d.dot(f)).sum() };
+        let external_work = dot(&sys.external);
+        let f_int: Vec<Vec3> = sys.external.iter().zip(s.residual).map(|(f, r)| f - r).collect();
+        let x = equation_vector(sys, s.d);
+        let elastic = dot(&f_int) + 0.5 * sys.assembler.pattern.quadratic_form(&self.tangent, &x);
+        let m_a1 = mass_times(sys, &state.a);
+        let kinetic = kinetic_energy(sys, &state.v, &mass_times(sys, &state.v));
+        let inertial: f64 = s.d.iter().zip(s.m_a0).zip(&m_a1).map(|((d, a0), a1)| 0.5 * d.dot(&(a0 + a1))).sum();
+        let step = StepEnergy { kinetic, elastic, external_work, contact: s.springs, friction: s.friction, numerical: inertial - (kinetic - s.kinetic0) };
+        let energy = self.energy.get_or_insert_with(|| Energy::start(s.kinetic0, 0.0));
+        energy.add(&step);
+        *energy
     }
 
     /// Static equilibrium under the initial loads with every contact locked — the stressed
@@ -403,6 +432,32 @@ impl Stepper {
             sys.assembler.add(&mut self.tangent, p.element, &local);
         }
     }
+}
+
+/// What an accepted step's energy accounts need besides the state.
+struct Increment<'a> {
+    d: &'a [Vec3],
+    residual: &'a [Vec3],
+    m_a0: &'a [Vec3],
+    kinetic0: f64,
+    friction: f64,
+    springs: f64,
+}
+
+/// ½ vᵀ M v from the velocities and their product `mv` with the mass (fixed covers excluded).
+fn kinetic_energy(sys: &System, v: &[Vec3], mv: &[Vec3]) -> f64 {
+    (0..v.len()).filter(|&c| sys.dofs.moves(c)).map(|c| 0.5 * v[c].dot(&mv[c])).sum()
+}
+
+/// Per-cover increments → the equation vector of the free covers (tied covers follow them).
+fn equation_vector(sys: &System, d: &[Vec3]) -> Vec<f64> {
+    let mut x = vec![0.0; sys.n_eq()];
+    for (c, v) in d.iter().enumerate() {
+        if let Some(e) = sys.dofs.eq(c, 0) {
+            x[e..e + 3].copy_from_slice(v.as_slice());
+        }
+    }
+    x
 }
 
 /// M w, per cover, from the element masses.
