@@ -466,7 +466,8 @@ fn mass_times(sys: &System, w: &[Vec3]) -> Vec<Vec3> {
     if w.iter().all(|x| *x == Vec3::zeros()) {
         return out;
     }
-    for (e, me) in sys.covers.elements.iter().enumerate() {
+    // A fixed block's MEs couple only its own covers, which neither move nor take forces.
+    for (e, me) in sys.covers.elements.iter().enumerate().filter(|(_, me)| !sys.geometry.blocks[me.block].fixed) {
         let k = sys.kernel(e);
         let n = me.covers.len();
         for a in 0..n {
