@@ -34,6 +34,7 @@ CASES = {
     "roof_wedge_prism.toml": ["analysis.duration=0.1"],
     "roof_wedge_pyramid.toml": ["analysis.duration=0.1"],
     "drop_test.toml": [],
+    "block_on_joint.toml": [],
     "tetrahedral_wedge.toml": ["analysis.duration=0.2"],
     "block_tower.toml": ["analysis.max_steps=1000"],
     "dominos.toml": ["analysis.duration=0.3"],
@@ -160,3 +161,8 @@ def test_dominos_start_to_topple(results):
 def test_dougong_starts_to_tip(results):
     # Unsupported but for one corner post, the set starts falling (full run: Rust verification).
     assert final(results, "dougong.toml", "cap.displacement.z") < -1e-3
+
+
+def test_block_on_joint_closes_and_shears_as_the_closed_form(results):
+    assert -final(results, "block_on_joint.toml", "base.displacement.z") == pytest.approx(25_000.0 / 1.0e8, rel=0.002)
+    assert final(results, "block_on_joint.toml", "base.displacement.x") == pytest.approx(2_500.0 / 5.0e7, rel=0.02)

@@ -2,9 +2,9 @@
 //! give it: a block resting on a joint closes it by σ_n / k_n and shears it by τ / k_s, however
 //! finely the contact points fall.
 //!
-//! A 1 m cube (ρ = 2500 kg/m³, g = 10 m/s²: W = 25 kN) on a fixed slab, started from its
-//! initial equilibrium: at the centre of its base (a material point 1 mm above it) the closed
-//! form is w = W / (k_n A). The cube is stiff (E = 100 GPa) and the cover sizes and patterns
+//! `examples/block_on_joint.toml` without the sideways gravity: a 1 m cube (W = 25 kN) on a
+//! fixed slab, started from its initial equilibrium; at the centre of its base (a material
+//! point 1 mm above it) the closed form is w = W / (k_n A). The cube is stiff (E = 100 GPa) and the cover sizes and patterns
 //! put 9 to 25 contact points on the joint. (The shear, u = T / (k_s A), is checked in
 //! `tests/test_joint_stiffness.py`.)
 
@@ -12,55 +12,14 @@ mod common;
 
 use common::{final_value, run_ok};
 
+/// `examples/block_on_joint.toml`'s normal stiffness [Pa/m].
 const KN: f64 = 1.0e8;
-const KS: f64 = 5.0e7;
 
 fn cube_on_joint(size: f64, pattern: &str, name: &str) -> f64 {
-    let text = format!(
-        r#"
-[analysis]
-duration = 0.002
-dt = 0.001
-max_displacement_ratio = 0.01
-gravity = [0.0, 0.0, -10.0]
-output_interval = 0.0
-initial_equilibrium = true
-
-[cover]
-pattern = "{pattern}"
-size = {size}
-
-[[material]]
-name = "rock"
-density = 2500.0
-young = 1.0e11
-poisson = 0.0
-
-[[joint]]
-name = "j"
-friction_angle = 45.0
-normal_stiffness = {KN}
-shear_stiffness = {KS}
-
-[[body]]
-name = "slab"
-material = "rock"
-fixed = true
-shape = {{ box = {{ min = [-1.0, -1.0, -0.5], max = [1.0, 1.0, 0.0] }} }}
-
-[[body]]
-name = "cube"
-material = "rock"
-joint = "j"
-shape = {{ box = {{ min = [-0.5, -0.5, 0.0], max = [0.5, 0.5, 1.0] }} }}
-
-[[monitor]]
-name = "base"
-select = {{ point = [0.0, 0.0, 0.001] }}
-quantities = ["displacement"]
-location = "point"
-"#
-    );
+    let mut text = common::example("block_on_joint.toml");
+    for (old, new) in [("gravity = [1.0, 0.0, -10.0]", "gravity = [0.0, 0.0, -10.0]".to_string()), ("pattern = \"hex8\"", format!("pattern = \"{pattern}\"")), ("size = 0.5", format!("size = {size}"))] {
+        text = common::with(&text, old, &new);
+    }
     let out = run_ok(&text, name);
     -final_value(&out, "base.displacement.z")
 }

@@ -42,31 +42,15 @@ pub struct Energy {
     pub initial: f64,
 }
 
-/// One accepted step's contributions.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct StepEnergy {
-    /// Kinetic energy at the end of the step.
-    pub kinetic: f64,
-    /// Elastic energy increment.
-    pub elastic: f64,
-    /// External work increment.
-    pub external_work: f64,
-    /// Contact spring energy at the end of the step.
-    pub contact: f64,
-    /// Friction dissipation in the step.
-    pub friction: f64,
-    /// Numerical dissipation in the step.
-    pub numerical: f64,
-}
-
 impl Energy {
     /// Accounts at the start of a run.
     pub fn start(kinetic: f64, contact: f64) -> Self {
         Self { kinetic, contact, initial: kinetic + contact, ..Self::default() }
     }
 
-    /// Add one accepted step.
-    pub fn add(&mut self, s: &StepEnergy) {
+    /// Add one accepted step: `s` holds its increments, and the kinetic and contact energy at
+    /// its end (its `initial` is not read).
+    pub fn add(&mut self, s: &Energy) {
         self.kinetic = s.kinetic;
         self.contact = s.contact;
         self.elastic += s.elastic;
@@ -99,12 +83,12 @@ mod tests {
         for _ in 0..10 {
             let v1 = v + g * dt;
             let d = 0.5 * (v + v1) * dt;
-            e.add(&StepEnergy { kinetic: 0.5 * v1 * v1, external_work: g * d, ..StepEnergy::default() });
+            e.add(&Energy { kinetic: 0.5 * v1 * v1, external_work: g * d, ..Energy::default() });
             v = v1;
         }
         assert!(e.error().abs() < 1e-12 * e.largest(), "{e:?}");
         // A step that creates energy shows in the error.
-        e.add(&StepEnergy { kinetic: e.kinetic + 1.0, ..StepEnergy::default() });
+        e.add(&Energy { kinetic: e.kinetic + 1.0, ..Energy::default() });
         assert!((e.error() + 1.0).abs() < 1e-12);
     }
 }

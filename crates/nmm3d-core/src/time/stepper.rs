@@ -11,7 +11,7 @@ use nmm3d_geom::Vec3;
 
 use super::contact_pattern::ContactPattern;
 use super::corotation;
-use super::energy::{Energy, StepEnergy};
+use super::energy::Energy;
 use super::integrator::{Newmark, StepCoefficients};
 use super::step_control::{self, Verdict};
 use crate::contact::{overlap_problems, ContactParams, ContactSet};
@@ -251,7 +251,7 @@ impl Stepper {
         let m_a1 = mass_times(sys, &state.a);
         let kinetic = kinetic_energy(sys, &state.v, &mass_times(sys, &state.v));
         let inertial: f64 = s.d.iter().zip(s.m_a0).zip(&m_a1).map(|((d, a0), a1)| 0.5 * d.dot(&(a0 + a1))).sum();
-        let step = StepEnergy { kinetic, elastic, external_work, contact: s.springs, friction: s.friction, numerical: inertial - (kinetic - s.kinetic0) };
+        let step = Energy { kinetic, elastic, external_work, contact: s.springs, friction: s.friction, numerical: inertial - (kinetic - s.kinetic0), initial: 0.0 };
         let energy = self.energy.get_or_insert_with(|| Energy::start(s.kinetic0, 0.0));
         energy.add(&step);
         *energy
