@@ -274,16 +274,22 @@ impl Stepper {
         let (mut steps, mut unbalanced) = (0, f64::INFINITY);
         self.inertia = false;
         while steps < analysis.max_steps {
-            let r = match (self.step(sys, state, f64::INFINITY), self.inertia) {
-                (Ok(r), true) => r,
-                (Ok(r), false) if r.cuts == 0 => r,
-                (Ok(_) | Err(_), false) => {
+            // A static iteration that fails is undone before the damped steps take over.
+            let before = (!self.inertia).then(|| (state.clone(), self.contacts.as_ref().map(|c| c.records.clone())));
+            let r = match (self.step(sys, state, f64::INFINITY), before) {
+                (Ok(r), None) => r,
+                (Ok(r), Some(_)) if r.cuts == 0 => r,
+                (Ok(_) | Err(_), Some((saved, records))) => {
                     // Not statically solvable as it stands: regularise with the mass term.
+                    *state = saved;
+                    if let (Some(c), Some(records)) = (self.contacts.as_mut(), records) {
+                        c.records = records;
+                    }
                     self.inertia = true;
                     state.dt = dt;
                     continue;
                 }
-                (Err(e), true) => {
+                (Err(e), None) => {
                     self.lock(false);
                     return Err(e);
                 }
