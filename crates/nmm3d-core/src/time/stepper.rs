@@ -263,8 +263,8 @@ impl Stepper {
     ///
     /// First by Newton iterations of the static equilibrium (no inertia: the locked springs
     /// hold every touching block, so a few iterations suffice, however soft the joints). Where
-    /// that cannot work — a block held by nothing makes the matrix singular, or an iteration
-    /// moves too far — it goes on as before, by implicit steps whose velocity is reset each
+    /// that cannot work — a block held by nothing makes the matrix singular, an iteration
+    /// moves too far, or 50 iterations do not converge — it goes on as before, by implicit steps whose velocity is reset each
     /// step: the mass term regularises, at the cost of many steps for soft, rocking modes.
     pub fn settle(&mut self, sys: &System, state: &mut State) -> Result<(u64, f64)> {
         let (v, a, dt) = (state.v.clone(), state.a.clone(), state.dt);
@@ -278,7 +278,7 @@ impl Stepper {
             let before = (!self.inertia).then(|| (state.clone(), self.contacts.as_ref().map(|c| c.records.clone())));
             let r = match (self.step(sys, state, f64::INFINITY), before) {
                 (Ok(r), None) => r,
-                (Ok(r), Some(_)) if r.cuts == 0 => r,
+                (Ok(r), Some(_)) if r.cuts == 0 && steps < MAX_STATIC_ITERATIONS => r,
                 (Ok(_) | Err(_), Some((saved, records))) => {
                     // Not statically solvable as it stands: regularise with the mass term.
                     *state = saved;
@@ -535,6 +535,10 @@ fn contact_params(sys: &System) -> ContactParams {
     let margin = 2.0 * a.max_displacement_ratio * sys.half_size + tolerance;
     ContactParams { kn, ks, size, margin, skin: WARNING_SKIN * margin, tolerance }
 }
+
+/// Newton iterations of the initial equilibrium before the damped steps take over (a contact
+/// state that keeps changing between iterations would otherwise never let it converge).
+const MAX_STATIC_ITERATIONS: u64 = 50;
 
 /// Factor on the contact penalties when a contact overlaps beyond the allowed depth.
 const PENALTY_RAISE: f64 = 10.0;
