@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import xml.etree.ElementTree as ET
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -81,3 +83,24 @@ def test_contact_frames_hold_points_forces_and_states(tmp_path):
     assert set(vtk_to_numpy(data.GetArray("state")).tolist()) == {1}  # stick
     assert vtk_to_numpy(data.GetArray("area")).sum() == pytest.approx(1.0, rel=1e-6)  # on the deformed faces
     assert set(vtk_to_numpy(data.GetArray("block_a")).tolist()) == {1}
+
+
+def test_meshio_and_pyvista_read_first_and_last_frames(tmp_path):
+    """Issue 14: every tool reads our frames; geometry is current, reference = current − u."""
+    meshio = pytest.importorskip("meshio")
+    pv = pytest.importorskip("pyvista")
+    root = Path(__file__).resolve().parents[1]
+    scenario = nmm3d.load(root / "examples" / "incline.toml")
+    result = scenario.run(out=tmp_path / "run")
+    scenario.write_blocks(tmp_path / "blocks")
+    frames = sorted((tmp_path / "run" / "frames").glob("blocks_*.vtu"))
+    for f in (frames[0], frames[-1]):
+        m = meshio.read(f)
+        assert sum(len(c.data) for c in m.cells) == result.summary["manifold_elements"]
+        np.testing.assert_allclose(m.points - m.point_data["displacement"], m.point_data["reference_position"],
+                                   atol=1e-9)
+        assert pv.read(f).n_cells == result.summary["manifold_elements"]
+    contacts = sorted((tmp_path / "run" / "frames").glob("contacts_*.vtu"))
+    assert len(meshio.read(contacts[-1]).points) > 0
+    blocks = meshio.read(tmp_path / "blocks" / "blocks.vtu")
+    assert sum(len(v) for v in blocks.cell_data["volume"]) == sum(len(c.data) for c in blocks.cells)

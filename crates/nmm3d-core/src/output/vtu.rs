@@ -1,8 +1,9 @@
 //! VTK XML writers: one `.vtu` per frame with every manifold element as a polyhedral cell
 //! (VTK_POLYHEDRON, legacy `faces`/`faceoffsets` layout), `blocks.vtu` with the blocks, and the
 //! `.pvd` collection. Arrays are raw little-endian binary in the `AppendedData` section (each
-//! block preceded by its UInt64 byte count), which VTK and ParaView read directly. Frame point
-//! data: displacement, velocity; cell data: block id, ME id, stress (xx, yy, zz, xy, yz, zx;
+//! block preceded by its UInt64 byte count), which VTK, ParaView, PyVista and meshio read.
+//! Frame points are the *current* (deformed) positions; point data: displacement, velocity,
+//! reference_position (= current − displacement); cell data: block id, ME id, stress (xx, yy, zz, xy, yz, zx;
 //! compression negative). Contact frames hold one vertex per contact point with its normal
 //! (from B to A), normal force (compression positive), shear force (vector), state (0 open,
 //! 1 stick, 2 slide), gap, area, mode (0 vertex of A, 1 vertex of B, 2 edge–edge) and blocks.
@@ -27,6 +28,11 @@ const VTK_POLYHEDRON: u8 = 42;
 /// Vertices of one block closer than this fraction of the cover size are one point.
 const POINT_QUANTUM: f64 = 1e-9;
 
+/// `values` (`comps` per cell) in the cells' write order.
+fn permute<T: Copy>(values: &[T], comps: usize, order: &[usize]) -> Vec<T> {
+    order.iter().flat_map(|&i| values[comps * i..comps * (i + 1)].iter().copied()).collect()
+}
+
 fn point_key(block: usize, x: &Vec3, quantum: f64) -> [i64; 4] {
     [block as i64, (x.x / quantum).round() as i64, (x.y / quantum).round() as i64, (x.z / quantum).round() as i64]
 }
@@ -37,10 +43,8 @@ fn point_key(block: usize, x: &Vec3, quantum: f64) -> [i64; 4] {
 struct Cells {
     points: Vec<Vec3>,
     keys: FxHashMap<[i64; 4], i32>,
-    conn: Vec<i32>,
-    offsets: Vec<i32>,
-    faces: Vec<i32>,
-    face_offsets: Vec<i32>,
+    /// Per cell: its distinct point ids, and its faces (count, then each face's size and ids).
+    cells: Vec<(Vec<i32>, Vec<i32>)>,
 }
 
 impl Cells {
@@ -59,34 +63,53 @@ impl Cells {
                 })
             })
             .collect();
-        self.conn.extend(&ids);
-        self.offsets.push(self.conn.len() as i32);
-        self.faces.push(poly.faces.len() as i32);
+        // Vertices of a sliver closer than the key's quantum are one point: list it once.
+        let mut conn = ids.clone();
+        conn.sort_unstable();
+        conn.dedup();
+        let mut faces = vec![poly.faces.len() as i32];
         let tol = 1e-12 * poly.aabb().diagonal();
         for f in &poly.faces {
-            self.faces.push(f.vertices.len() as i32);
+            faces.push(f.vertices.len() as i32);
             for v in &f.vertices {
                 let k = verts.iter().position(|w| (w - v).norm() <= tol).expect("a face vertex is a vertex");
-                self.faces.push(ids[k]);
+                faces.push(ids[k]);
             }
         }
-        self.face_offsets.push(self.faces.len() as i32);
+        self.cells.push((conn, faces));
         created
     }
 
-    fn write(&self, bin: &mut Appended, field_data: &str, point_data: &str, cell_data: &str) -> Vec<u8> {
+    /// The order the cells are written in: by point count, stable. meshio (5.3) groups
+    /// polyhedra by point count in order of first appearance but their cell data in ascending
+    /// order, so any other order pairs cells with the wrong data; VTK does not care. Cell
+    /// data arrays are permuted by [`permute`] with the same order.
+    fn order(&self) -> Vec<usize> {
+        let mut order: Vec<usize> = (0..self.cells.len()).collect();
+        order.sort_by_key(|&i| self.cells[i].0.len());
+        order
+    }
+
+    fn write(&self, order: &[usize], bin: &mut Appended, field_data: &str, point_data: &str, cell_data: &str) -> Vec<u8> {
+        let (mut conn, mut offsets, mut faces, mut face_offsets) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for &i in order {
+            conn.extend(&self.cells[i].0);
+            offsets.push(conn.len() as i32);
+            faces.extend(&self.cells[i].1);
+            face_offsets.push(faces.len() as i32);
+        }
         let mut s = String::new();
         s.push_str("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n");
         let _ = writeln!(s, "<UnstructuredGrid>\n<FieldData>{field_data}</FieldData>");
-        let _ = writeln!(s, "<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">", self.points.len(), self.offsets.len());
+        let _ = writeln!(s, "<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">", self.points.len(), offsets.len());
         let _ = write!(s, "{point_data}{cell_data}<Points>\n");
         bin.vec3(&mut s, "Points", &self.points);
         s.push_str("</Points>\n<Cells>\n");
-        bin.i32(&mut s, "connectivity", &self.conn);
-        bin.i32(&mut s, "offsets", &self.offsets);
-        bin.u8(&mut s, "types", &vec![VTK_POLYHEDRON; self.offsets.len()]);
-        bin.i32(&mut s, "faces", &self.faces);
-        bin.i32(&mut s, "faceoffsets", &self.face_offsets);
+        bin.i32(&mut s, "connectivity", &conn);
+        bin.i32(&mut s, "offsets", &offsets);
+        bin.u8(&mut s, "types", &vec![VTK_POLYHEDRON; offsets.len()]);
+        bin.i32(&mut s, "faces", &faces);
+        bin.i32(&mut s, "faceoffsets", &face_offsets);
         s.push_str("</Cells>\n</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"raw\">\n_");
         let mut out = s.into_bytes();
         out.extend_from_slice(&bin.data);
@@ -103,7 +126,10 @@ struct Appended {
 
 impl Appended {
     fn declare(&mut self, s: &mut String, ty: &str, name: &str, comps: usize, bytes: impl Iterator<Item = u8>, len: usize) {
-        let _ = writeln!(s, "<DataArray type=\"{ty}\" Name=\"{name}\" NumberOfComponents=\"{comps}\" format=\"appended\" offset=\"{}\"/>", self.data.len());
+        // One component is VTK's default; leaving it out keeps meshio's arrays one-dimensional
+        // (it reshapes by NumberOfComponents, and a (n, 1) `faces` array breaks its reader).
+        let comps = if comps == 1 { String::new() } else { format!(" NumberOfComponents=\"{comps}\"") };
+        let _ = writeln!(s, "<DataArray type=\"{ty}\" Name=\"{name}\"{comps} format=\"appended\" offset=\"{}\"/>", self.data.len());
         self.data.extend_from_slice(&(len as u64).to_le_bytes());
         self.data.extend(bytes);
     }
@@ -129,36 +155,39 @@ impl Appended {
 pub fn write_frame(sys: &System, state: &State, path: &Path) -> Result<()> {
     let mut cells = Cells::default();
     let quantum = POINT_QUANTUM * sys.covers.mesh.size;
-    let (mut disp, mut vel) = (Vec::new(), Vec::new());
+    let (mut disp, mut vel, mut reference) = (Vec::new(), Vec::new(), Vec::new());
     let (mut block_id, mut element_id, mut stress) = (Vec::new(), Vec::new(), Vec::new());
-    for (e, me) in sys.covers.elements.iter().enumerate() {
+    let parts = sys.covers.elements.iter().enumerate().flat_map(|(e, me)| me.parts.iter().map(move |p| (e, p)));
+    let sigma: Vec<[f64; 6]> = (0..sys.covers.elements.len()).map(|e| stress_components(&corotation::element_stress(sys, state, e))).collect();
+    for (e, part) in parts {
+        let me = &sys.covers.elements[e];
         let w = sys.covers.weights(me);
         let interpolate = |xi: &Vec3, f: &dyn Fn(usize) -> Vec3| -> Vec3 { me.covers.iter().zip(w).map(|(&c, wa)| wa.eval(xi) * f(c)).sum() };
         let corner = crate::cover::build::cell_corner(me.cell);
         let key = |xi: &Vec3| point_key(me.block, &sys.covers.mesh.to_global(&(corner + xi)), quantum);
-        let sigma = stress_components(&corotation::element_stress(sys, state, e));
-        for part in &me.parts {
-            let verts = cells.push(part, key, |xi| interpolate(xi, &|c| state.position(sys, c)));
-            for xi in &verts {
-                disp.push(interpolate(xi, &|c| state.u[c]));
-                vel.push(interpolate(xi, &|c| state.v[c]));
-            }
-            block_id.push(me.block as i64);
-            element_id.push(e as i64);
-            stress.extend(sigma);
+        for xi in &cells.push(part, key, |xi| interpolate(xi, &|c| state.position(sys, c))) {
+            let u = interpolate(xi, &|c| state.u[c]);
+            reference.push(interpolate(xi, &|c| state.position(sys, c)) - u);
+            disp.push(u);
+            vel.push(interpolate(xi, &|c| state.v[c]));
         }
+        block_id.push(me.block as i64);
+        element_id.push(e as i64);
+        stress.extend(sigma[e]);
     }
     let mut bin = Appended::default();
     let mut point_data = String::from("<PointData Vectors=\"displacement\">\n");
     bin.vec3(&mut point_data, "displacement", &disp);
     bin.vec3(&mut point_data, "velocity", &vel);
+    bin.vec3(&mut point_data, "reference_position", &reference);
     point_data.push_str("</PointData>\n");
+    let order = cells.order();
     let mut cell_data = String::from("<CellData Scalars=\"block_id\">\n");
-    bin.i64(&mut cell_data, "block_id", 1, &block_id);
-    bin.i64(&mut cell_data, "element_id", 1, &element_id);
-    bin.f64(&mut cell_data, "stress", 6, &stress);
+    bin.i64(&mut cell_data, "block_id", 1, &permute(&block_id, 1, &order));
+    bin.i64(&mut cell_data, "element_id", 1, &permute(&element_id, 1, &order));
+    bin.f64(&mut cell_data, "stress", 6, &permute(&stress, 6, &order));
     cell_data.push_str("</CellData>\n");
-    atomic::write(path, &cells.write(&mut bin, &field_data(state.time), &point_data, &cell_data))
+    atomic::write(path, &cells.write(&order, &mut bin, &field_data(state.time), &point_data, &cell_data))
 }
 
 /// Write the contact points of a frame (forces on A, the block of higher index).
@@ -217,21 +246,20 @@ pub fn write_blocks(geometry: &crate::model::Geometry, path: &Path) -> Result<()
             vols.push(b.volume);
         }
     }
+    let order = cells.order();
     let mut bin = Appended::default();
     let mut cell_data = String::from("<CellData Scalars=\"block_id\">\n");
-    bin.i64(&mut cell_data, "block_id", 1, &ids);
-    bin.i64(&mut cell_data, "body_id", 1, &bodies);
-    bin.f64(&mut cell_data, "volume", 1, &vols);
+    bin.i64(&mut cell_data, "block_id", 1, &permute(&ids, 1, &order));
+    bin.i64(&mut cell_data, "body_id", 1, &permute(&bodies, 1, &order));
+    bin.f64(&mut cell_data, "volume", 1, &permute(&vols, 1, &order));
     cell_data.push_str("</CellData>\n");
-    atomic::write(path, &cells.write(&mut bin, &field_data(0.0), "", &cell_data))
+    atomic::write(path, &cells.write(&order, &mut bin, &field_data(0.0), "", &cell_data))
 }
 
+/// Field data of every file: the time. Numbers only — meshio rejects `String` arrays (the
+/// stress sign convention is in `summary.json` and the docs).
 fn field_data(time: f64) -> String {
-    format!(
-        "\n<DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" format=\"ascii\">{time}</DataArray>\n<DataArray type=\"String\" Name=\"stress_sign\" NumberOfTuples=\"1\" format=\"ascii\">{}</DataArray>\n",
-        // "compression negative" as ASCII codes, NUL-terminated (VTK's string array encoding)
-        "compression negative".bytes().map(|b| b.to_string()).chain(std::iter::once("0".into())).collect::<Vec<_>>().join(" ")
-    )
+    format!("\n<DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" format=\"ascii\">{time}</DataArray>\n")
 }
 
 /// Write the `.pvd` collection of frames: (time, blocks file, contacts file) — part 0 the
