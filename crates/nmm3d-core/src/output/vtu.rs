@@ -3,8 +3,8 @@
 //! `.pvd` collection. Arrays are raw little-endian binary in the `AppendedData` section (each
 //! block preceded by its UInt64 byte count), which VTK, ParaView, PyVista and meshio read.
 //! Frame points are the *current* (deformed) positions; point data: displacement, velocity,
-//! reference_position (= current − displacement); cell data: block id, ME id, stress (xx, yy, zz, xy, yz, zx;
-//! compression negative). Contact frames hold one vertex per contact point with its normal
+//! reference_position (= current − displacement); cell data: block id, ME id, stress (xx, yy,
+//! zz, xy, yz, zx; compression negative). Contact frames hold one vertex per contact point with its normal
 //! (from B to A), normal force (compression positive), shear force (vector), state (0 open,
 //! 1 stick, 2 slide), gap, area, mode (0 vertex of A, 1 vertex of B, 2 edge–edge) and blocks.
 
@@ -157,23 +157,22 @@ pub fn write_frame(sys: &System, state: &State, path: &Path) -> Result<()> {
     let quantum = POINT_QUANTUM * sys.covers.mesh.size;
     let (mut disp, mut vel, mut reference) = (Vec::new(), Vec::new(), Vec::new());
     let (mut block_id, mut element_id, mut stress) = (Vec::new(), Vec::new(), Vec::new());
-    let parts = sys.covers.elements.iter().enumerate().flat_map(|(e, me)| me.parts.iter().map(move |p| (e, p)));
-    let sigma: Vec<[f64; 6]> = (0..sys.covers.elements.len()).map(|e| stress_components(&corotation::element_stress(sys, state, e))).collect();
-    for (e, part) in parts {
-        let me = &sys.covers.elements[e];
+    for (e, me) in sys.covers.elements.iter().enumerate() {
         let w = sys.covers.weights(me);
         let interpolate = |xi: &Vec3, f: &dyn Fn(usize) -> Vec3| -> Vec3 { me.covers.iter().zip(w).map(|(&c, wa)| wa.eval(xi) * f(c)).sum() };
         let corner = crate::cover::build::cell_corner(me.cell);
         let key = |xi: &Vec3| point_key(me.block, &sys.covers.mesh.to_global(&(corner + xi)), quantum);
-        for xi in &cells.push(part, key, |xi| interpolate(xi, &|c| state.position(sys, c))) {
-            let u = interpolate(xi, &|c| state.u[c]);
-            reference.push(interpolate(xi, &|c| state.position(sys, c)) - u);
-            disp.push(u);
-            vel.push(interpolate(xi, &|c| state.v[c]));
+        let sigma = stress_components(&corotation::element_stress(sys, state, e));
+        for part in &me.parts {
+            for xi in &cells.push(part, key, |xi| interpolate(xi, &|c| state.position(sys, c))) {
+                disp.push(interpolate(xi, &|c| state.u[c]));
+                vel.push(interpolate(xi, &|c| state.v[c]));
+                reference.push(interpolate(xi, &|c| sys.covers.covers[c].position));
+            }
+            block_id.push(me.block as i64);
+            element_id.push(e as i64);
+            stress.extend(sigma);
         }
-        block_id.push(me.block as i64);
-        element_id.push(e as i64);
-        stress.extend(sigma[e]);
     }
     let mut bin = Appended::default();
     let mut point_data = String::from("<PointData Vectors=\"displacement\">\n");
