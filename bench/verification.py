@@ -1,8 +1,8 @@
 """Full-size verification runs; writes docs/verification.md. Run: python bench/verification.py
 
 Each case runs an example scenario (with overrides) through the Python API and compares with
-the closed form kept in `nmm3d.analytic` (or the independent reference of
-shared/design/verification-cases.md). The fast versions of these checks are tests
+the closed form kept in `nmm3d.analytic` (or an independent reference, quoted beside its
+table). The fast versions of these checks are tests
 (crates/nmm3d-core/tests/verification_*.rs); this script runs the larger meshes and records
 what was measured. Figures are written, never typed.
 """
@@ -271,7 +271,7 @@ def impact(rep: Report) -> None:
         rows.append([f"{wdt}", f"{table:.3f}", f"{e:.4f}", mark(abs(e - table) < 0.005)])
     rep.table("(i) Restitution of the DDA scheme",
               "The same impact without gravity, integrator \"dda\" (Newmark β = ½, γ = 1): rebound / impact speed "
-              "against the tabulated restitution of the scheme (verification-cases.md (i)).",
+              "against the tabulated restitution of the scheme (case (i)).",
               ["ω Δt", "table", "measured", "result"], rows)
 
 
@@ -342,7 +342,7 @@ def main() -> None:
             + (f" for {', '.join(args.only)}; the other sections kept from the previous run" if args.only else "")
             + "). Do not edit by hand: rerun it.",
             "The fast versions of these checks run in the test suite (`crates/nmm3d-core/tests/verification_*.rs`).",
-            "Closed forms are in `python/nmm3d/analytic.py`; independent references in `shared/design/verification-cases.md`.",
+            "Closed forms are in `python/nmm3d/analytic.py`; independent references (3-D solutions computed outside nmm3d) are quoted beside each table.",
             "Contact cases checked by tests only: the sliding/toppling chart (`tests/test_toppling.py`) and the "
             "dominos run (`verification_dominos.rs`, timed in `docs/performance-contact.md`) and the dougong collapse "
             "(`verification_dougong.rs`).", ""]

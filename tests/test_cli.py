@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import json
+import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -128,6 +130,41 @@ def test_divergence_exits_1_with_valid_outputs(tmp_path):
     assert s["status"] == "failed" and "diverged" in s["message"]
     assert (out / "history.csv").read_text().count("\n") >= 2
     assert (out / "result.pvd").is_file()
+
+
+def test_run_prints_the_answer_beside_its_reference(tmp_path):
+    r = nmm3d("run", str(EXAMPLES / "cantilever.toml"), "--out", str(tmp_path / "c"), "--quiet")
+    assert r.returncode == 0, r.stderr
+    assert "tip.displacement.z = -0.0397" in r.stdout
+    assert "reference -0.04009 m" in r.stdout and "within 1 %" in r.stdout
+    s = json.loads((tmp_path / "c" / "summary.json").read_text())
+    assert [c["passed"] for c in s["checks"]] == [True, True]
+
+
+def test_ctrl_c_stops_after_the_current_step_with_a_valid_summary(tmp_path):
+    out = tmp_path / "long"
+    p = subprocess.Popen([sys.executable, "-m", "nmm3d", "run", str(EXAMPLES / "incline.toml"), "--out", str(out),
+                          "--set", "analysis.duration=1000"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    first = p.stderr.readline()  # the first progress line: the run is stepping
+    assert "ETA" in first and "Δt" in first and "contacts" in first, first
+    time.sleep(1.0)
+    p.send_signal(signal.SIGINT)
+    _, err = p.communicate(timeout=120)
+    assert p.returncode == 130, err
+    assert "interrupted at step" in err and "Traceback" not in err
+    s = json.loads((out / "summary.json").read_text())
+    assert s["status"] == "interrupted" and 0 < s["time"] < 1000
+    with open(out / "history.csv") as f:
+        rows = f.read().splitlines()
+    assert len(rows) - 1 == s["steps"] + 1  # every accepted step and t = 0
+    assert (out / "result.pvd").is_file()
+
+
+def test_expect_must_name_a_monitored_column(tmp_path):
+    text = GOOD + '\n[[expect]]\nquantity = "cube.displacement.w"\nreference = 1.0\n'
+    r = nmm3d("check", str(write(tmp_path, text)))
+    assert r.returncode == 2
+    assert "expect[0].quantity" in r.stderr and "cube.displacement.w" in r.stderr
 
 
 def test_plot_draws_png(tmp_path):

@@ -38,7 +38,7 @@ def cantilever_self_weight(weight_per_length: float, length: float, young: float
 
 def kirchhoff_plate_corners(q: float, a: float, thickness: float, young: float, poisson: float) -> float:
     """Centre deflection of a square Kirchhoff plate on four corner points under uniform load q:
-    w = 0.0255065 q a⁴ / D, D = Eh³/(12(1 − ν²)) (verification-cases.md (e); Timoshenko &
+    w = 0.0255065 q a⁴ / D, D = Eh³/(12(1 − ν²)) (docs/verification.md (e); Timoshenko &
     Woinowsky-Krieger, plates supported at the corners)."""
     d = young * thickness**3 / (12.0 * (1.0 - poisson**2))
     return 0.0255065 * q * a**4 / d

@@ -1,4 +1,5 @@
-"""The ``nmm3d`` command line. Exit status: 0 done, 2 invalid input, 1 the run failed."""
+"""The ``nmm3d`` command line. Exit status: 0 done, 2 invalid input, 1 the run failed,
+130 interrupted (Ctrl-C; the outputs so far and ``summary.json`` are written)."""
 
 from __future__ import annotations
 
@@ -8,8 +9,9 @@ from pathlib import Path
 
 from nmm3d import _core
 from nmm3d.scenario import load
+from nmm3d.units import unit
 
-EXIT_OK, EXIT_FAILED, EXIT_INPUT = 0, 1, 2
+EXIT_OK, EXIT_FAILED, EXIT_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -46,16 +48,48 @@ def _parser() -> argparse.ArgumentParser:
 
 def _run(args: argparse.Namespace) -> int:
     scenario = load(args.file, args.overrides)
-    result = scenario.run(args.out, progress=not args.quiet)
+    try:
+        result = scenario.run(args.out, progress=not args.quiet)
+    except KeyboardInterrupt as e:
+        print(f"nmm3d: {e}", file=sys.stderr)
+        print(f"summary.json (status \"interrupted\") and the outputs so far are in {args.out}", file=sys.stderr)
+        return EXIT_INTERRUPTED
     s = result.summary
     line = (f"{s['status']}: {s['message']} — {s['steps']} steps, t = {s['time']:.6g} s, "
             f"{s['manifold_elements']} MEs, {s['dofs']} DOFs, {s['wall_seconds']:.2f} s wall")
     if result.completed:
         print(line)
+        _print_answers(s)
         return EXIT_OK
     print(f"nmm3d: run failed: {s['message']}", file=sys.stderr)
     print(f"outputs up to the last good step are in {args.out}", file=sys.stderr)
     return EXIT_FAILED
+
+
+MAX_FINAL_LINES = 12
+"""Final monitor values printed after a run (all of them are in summary.json)."""
+
+
+def _print_answers(s: dict) -> None:
+    """The final monitored values, then each ``[[expect]]`` beside its reference."""
+    final = s.get("final", {})
+    for key in list(final)[:MAX_FINAL_LINES]:
+        print(f"  {key} = {final[key]:.6g} {unit(key)}".rstrip())
+    if len(final) > MAX_FINAL_LINES:
+        print(f"  … {len(final) - MAX_FINAL_LINES} more in summary.json")
+    for c in s.get("checks", []):
+        print(_check_line(c))
+
+
+def _check_line(c: dict) -> str:
+    u = unit(c["quantity"])
+    with_unit = lambda x: f"{x:.6g} {u}".rstrip()  # noqa: E731
+    value = "missing" if c["value"] is None else with_unit(c["value"])
+    diff = "" if c["relative_difference"] is None else f", {100 * c['relative_difference']:+.2f} %"
+    bound = f"{100 * c['tolerance']:g} %" if c["reference"] != 0 else f"{c['absolute_tolerance']:g} {u}".rstrip()
+    source = f" ({c['source']})" if c["source"] else ""
+    verdict = "within" if c["passed"] else "OUTSIDE"
+    return f"check {c['quantity']} = {value}; reference {with_unit(c['reference'])}{source}{diff}: {verdict} {bound}"
 
 
 def _check(args: argparse.Namespace) -> int:
@@ -119,6 +153,13 @@ def main(argv: list[str] | None = None) -> int:
     except _core.NmmError as e:
         print(f"nmm3d: {e}", file=sys.stderr)
         return EXIT_FAILED
+    except KeyboardInterrupt:
+        print("nmm3d: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except BrokenPipeError:
+        # The reader of our output went away (`nmm3d blocks … | head`): stop quietly.
+        sys.stderr.close()
+        return EXIT_OK
 
 
 if __name__ == "__main__":

@@ -28,7 +28,7 @@ class Result:
 
     @property
     def status(self) -> str:
-        """``"completed"`` or ``"failed"``."""
+        """``"completed"``, ``"failed"`` or ``"interrupted"`` (Ctrl-C)."""
         return str(self.summary["status"])
 
     @property

@@ -42,10 +42,15 @@ class Scenario:
         """Run and write the outputs to ``out``; returns the :class:`Result`.
 
         A run that fails numerically still returns a result with ``status == "failed"`` and
-        valid outputs up to the last good step. The GIL is released while computing.
+        valid outputs up to the last good step. The GIL is released while computing. Ctrl-C
+        stops the run after the current step: the outputs and ``summary.json`` (``status ==
+        "interrupted"``) are written, then ``KeyboardInterrupt`` is raised.
         """
         _core.run_json(self._json, self.label, os.fspath(out), progress)
-        return Result(Path(out))
+        result = Result(Path(out))
+        if result.status == "interrupted":
+            raise KeyboardInterrupt(result.summary["message"])
+        return result
 
     def blocks(self) -> dict[str, np.ndarray]:
         """The blocks this scenario makes, as arrays keyed like ``blocks.csv``."""

@@ -14,7 +14,7 @@ Modes: both reactions negative → the wedge lifts off both planes (falls); one 
 slides on the other plane alone (FS = (N tan φ + cA) / (W sin ψ) with N = W cos ψ of that plane);
 else it slides on both. Dynamic sliding (FS < 1): a = g sin ψ (1 − FS) along the sliding direction.
 Source: Hoek & Bray (1981) Rock Slope Engineering, ch. 8 and appendix; Wyllie & Mah (2004) ch. 7;
-verification-cases.md (d).
+docs/verification.md (d).
 """
 
 from __future__ import annotations

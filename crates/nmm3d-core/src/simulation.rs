@@ -1,9 +1,11 @@
 //! The façade: build the system, step to the end, record monitors and frames, write outputs.
-//! Failures after the model is built end the run with status "failed" and leave every output
-//! valid up to the last accepted step; `summary.json` is always written last.
+//! Failures after the model is built end the run with status "failed", a stop request (Ctrl-C)
+//! with status "interrupted" after the current step; either way every output stays valid up to
+//! the last accepted step, and `summary.json` is always written last.
 
-use std::io::{IsTerminal, Write};
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::Instant;
 
 use serde_json::{json, Map, Value};
@@ -11,7 +13,8 @@ use serde_json::{json, Map, Value};
 use crate::contact::ContactSet;
 use crate::error::{Error, Result};
 use crate::monitor::MonitorPlan;
-use crate::output::{atomic, tables, vtu};
+use crate::output::progress::{Progress, ProgressMode};
+use crate::output::{atomic, checks, tables, vtu};
 use crate::scenario::{AnalysisKind, Scenario};
 use crate::state::State;
 use crate::system::System;
@@ -22,8 +25,18 @@ use crate::time::Stepper;
 pub struct RunOutcome {
     /// The summary written to `summary.json`.
     pub summary: Value,
-    /// Whether the run completed (false: failed, see `summary.message`).
+    /// Whether the run completed (false: failed or interrupted, see `summary.status`).
     pub completed: bool,
+}
+
+/// Asked after every accepted step: `true` stops the run there (status "interrupted").
+#[derive(Clone)]
+pub struct StopRequest(pub Arc<dyn Fn() -> bool + Send + Sync>);
+
+impl std::fmt::Debug for StopRequest {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("StopRequest")
+    }
 }
 
 /// Options of a run.
@@ -31,8 +44,18 @@ pub struct RunOutcome {
 pub struct RunOptions {
     /// Output directory (created if missing).
     pub out: PathBuf,
-    /// Show a progress line on standard error when it is a terminal.
+    /// Report progress on standard error: a live line on a terminal, a periodic line otherwise.
     pub progress: bool,
+    /// Checked after every accepted step (the Python binding checks for Ctrl-C).
+    pub stop: Option<StopRequest>,
+}
+
+/// How the stepping ended (errors aside).
+enum End {
+    /// Reached the duration, equilibrium or `max_steps`.
+    Completed(String),
+    /// Stopped on request.
+    Interrupted(String),
 }
 
 /// Run a validated scenario. `Err` only for invalid input or unwritable outputs; a run that
@@ -48,25 +71,33 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
     let _ = std::fs::remove_file(out.join("summary.json"));
     tables::write_blocks(&sys, out)?;
     let mut rec = Recorder::new(&sys, monitors, out);
-    let progress = opts.progress && std::io::stderr().is_terminal();
+    let mode = match (opts.progress, std::io::stderr().is_terminal()) {
+        (false, _) => ProgressMode::Off,
+        (true, true) => ProgressMode::Terminal,
+        (true, false) => ProgressMode::Log,
+    };
     let mut settled = None;
+    let mut progress = None;
     let result = stepper.initialize(&sys, &mut state).and_then(|_| {
         if sys.scenario.analysis.initial_equilibrium {
             settled = Some(stepper.settle(&sys, &mut state)?);
         }
         rec.record(&sys, &state, stepper.contacts(), true)?;
-        advance(&sys, &mut state, &mut stepper, &mut rec, progress)
+        let p = progress.insert(Progress::new(mode, &state));
+        advance(&sys, &mut state, &mut stepper, &mut rec, p, opts.stop.as_ref())
     });
-    if progress {
-        eprintln!();
+    if let Some(p) = &progress {
+        p.finish();
     }
-    let (completed, message) = match result {
-        Ok(m) => (true, m),
-        Err(e @ (Error::Diverged { .. } | Error::Solver { .. })) => (false, e.to_string()),
+    let (status, message) = match result {
+        Ok(End::Completed(m)) => ("completed", m),
+        Ok(End::Interrupted(m)) => ("interrupted", m),
+        Err(e @ (Error::Diverged { .. } | Error::Solver { .. })) => ("failed", e.to_string()),
         Err(e) => return Err(e),
     };
+    let completed = status == "completed";
     rec.finish(&sys, &state, stepper.contacts())?;
-    let mut summary = summary(&sys, &state, &stepper, &rec, completed, &message, t_start.elapsed().as_secs_f64());
+    let mut summary = summary(&sys, &state, &stepper, &rec, status, &message, t_start.elapsed().as_secs_f64());
     if let (Some((steps, unbalanced)), Some(map)) = (settled, summary.as_object_mut()) {
         let _ = map.insert("initial_equilibrium".into(), json!({"steps": steps, "unbalanced_force_ratio": unbalanced}));
     }
@@ -75,20 +106,19 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
     Ok(RunOutcome { summary, completed })
 }
 
-/// Step until the end; returns the completion message.
-fn advance(sys: &System, state: &mut State, stepper: &mut Stepper, rec: &mut Recorder, progress: bool) -> Result<String> {
+/// Step until the end or a stop request.
+fn advance(sys: &System, state: &mut State, stepper: &mut Stepper, rec: &mut Recorder, progress: &mut Progress, stop: Option<&StopRequest>) -> Result<End> {
     let a = &sys.scenario.analysis;
     let end = a.duration;
-    let mut last_print = Instant::now();
     loop {
         if state.time >= end * (1.0 - 1e-12) {
-            return Ok(match a.kind {
+            return Ok(End::Completed(match a.kind {
                 AnalysisKind::Dynamic => format!("reached t = {end} s"),
                 AnalysisKind::Static => format!("reached the duration t = {end} s before equilibrium (unbalanced force ratio {:.3e})", rec.last_unbalanced),
-            });
+            }));
         }
         if state.step >= a.max_steps {
-            return Ok(format!("stopped at max_steps = {} (t = {} s)", a.max_steps, state.time));
+            return Ok(End::Completed(format!("stopped at max_steps = {} (t = {} s)", a.max_steps, state.time)));
         }
         let cap = (end - state.time).max(0.0);
         let report = stepper.step(sys, state, cap)?;
@@ -102,13 +132,12 @@ fn advance(sys: &System, state: &mut State, stepper: &mut Stepper, rec: &mut Rec
             return Err(Error::Diverged { step: state.step, time: state.time, reason: "a displacement is not finite".into() });
         }
         rec.record(sys, state, stepper.contacts(), false)?;
-        if progress && last_print.elapsed().as_secs_f64() > 0.5 {
-            eprint!("\r  step {:>8}  t = {:<12.6} dt = {:.3e}   ", state.step, state.time, report.dt);
-            let _ = std::io::stderr().flush();
-            last_print = Instant::now();
-        }
+        progress.step(a, state, &report);
         if a.kind == AnalysisKind::Static && state.step > 1 && report.unbalanced <= a.equilibrium_tolerance {
-            return Ok(format!("equilibrium reached (unbalanced force ratio {:.3e})", report.unbalanced));
+            return Ok(End::Completed(format!("equilibrium reached (unbalanced force ratio {:.3e})", report.unbalanced)));
+        }
+        if stop.is_some_and(|s| (s.0)()) {
+            return Ok(End::Interrupted(format!("interrupted at step {} (t = {} s); the outputs are valid up to this step", state.step, state.time)));
         }
     }
 }
@@ -219,7 +248,7 @@ impl Recorder {
     }
 }
 
-fn summary(sys: &System, state: &State, stepper: &Stepper, rec: &Recorder, completed: bool, message: &str, wall: f64) -> Value {
+fn summary(sys: &System, state: &State, stepper: &Stepper, rec: &Recorder, status: &str, message: &str, wall: f64) -> Value {
     let mut timings = Map::new();
     for (k, v) in &sys.timings {
         let _ = timings.insert(k.clone(), json!(v));
@@ -230,6 +259,7 @@ fn summary(sys: &System, state: &State, stepper: &Stepper, rec: &Recorder, compl
     let _ = timings.insert("factorization".into(), json!(numeric));
     let _ = timings.insert("solve".into(), json!(stepper.times.solve));
     let _ = timings.insert("output".into(), json!(rec.output_seconds));
+    let last = rec.final_values();
     if let Some(c) = stepper.contacts() {
         let _ = timings.insert("contact_warning".into(), json!(c.times.warning));
         let _ = timings.insert("contact_detection".into(), json!(c.times.detection));
@@ -237,7 +267,7 @@ fn summary(sys: &System, state: &State, stepper: &Stepper, rec: &Recorder, compl
         let _ = timings.insert("contact_pattern".into(), json!(stepper.times.pattern));
     }
     json!({
-        "status": if completed { "completed" } else { "failed" },
+        "status": status,
         "message": message,
         "steps": state.step,
         "time": state.time,
@@ -258,7 +288,8 @@ fn summary(sys: &System, state: &State, stepper: &Stepper, rec: &Recorder, compl
         "energy": energy_summary(stepper.energy.as_ref(), &rec.diagnostics),
         "stress_sign": "compression negative",
         "timings": Value::Object(timings),
-        "final": Value::Object(rec.final_values()),
+        "final": Value::Object(last.clone()),
+        "checks": checks::checks(&sys.scenario.expect, &last),
     })
 }
 

@@ -459,7 +459,7 @@ fn an_open_close_iteration_that_cannot_settle_fails_the_run_with_its_reason() {
     let mut text = common::example("incline.toml");
     text = common::with(&text, "initial_equilibrium = true", "initial_equilibrium = true\nmax_open_close = 1\nmin_dt_ratio = 1.0");
     let dir = common::out_dir("unsettled");
-    let out = nmm3d_core::simulation::run(scenario(&text), "<test>", &nmm3d_core::simulation::RunOptions { out: dir.clone(), progress: false }).unwrap();
+    let out = nmm3d_core::simulation::run(scenario(&text), "<test>", &nmm3d_core::simulation::RunOptions { out: dir.clone(), progress: false, ..Default::default() }).unwrap();
     assert!(!out.completed);
     let message = out.summary["message"].as_str().unwrap();
     assert!(message.contains("open–close iteration did not settle"), "{message}");

@@ -6,7 +6,7 @@ mod errors;
 use std::path::PathBuf;
 
 use nmm3d_core::scenario;
-use nmm3d_core::simulation::{self, RunOptions};
+use nmm3d_core::simulation::{self, RunOptions, StopRequest};
 use pyo3::prelude::*;
 
 /// The Rust side allocates many small geometry buffers (clipping, covers) and large solver
@@ -29,13 +29,16 @@ fn load_json(py: Python<'_>, text: String, label: String, overrides: Vec<String>
 }
 
 /// Run a scenario (JSON text) writing outputs to `out`; returns the summary as JSON text.
+/// Ctrl-C (a pending Python signal, e.g. `KeyboardInterrupt`) stops the run after the current
+/// step with status "interrupted"; the signal is consumed.
 #[pyfunction]
 #[pyo3(signature = (text, label, out, progress = false))]
 fn run_json(py: Python<'_>, text: String, label: String, out: PathBuf, progress: bool) -> PyResult<String> {
+    let stop = StopRequest(std::sync::Arc::new(|| Python::attach(|py| py.check_signals().is_err())));
     let outcome = py.detach(|| {
         errors::guard("running", || {
             let s = scenario::from_json_str(&text, &label, &[])?;
-            simulation::run(s, &label, &RunOptions { out, progress })
+            simulation::run(s, &label, &RunOptions { out, progress, stop: Some(stop) })
         })
     })?;
     Ok(outcome.summary.to_string())

@@ -61,6 +61,9 @@ pub struct Scenario {
     /// Monitored quantities.
     #[serde(default)]
     pub monitor: Vec<Monitor>,
+    /// Reference values the monitored quantities should reach (addition to v1).
+    #[serde(default)]
+    pub expect: Vec<Expect>,
     /// A study over many runs (addition to v1): kept as given here and validated and run by the
     /// Python package (`nmm3d study`, `docs/studies.md`); a single run ignores it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -673,5 +676,32 @@ impl Quantity {
             Quantity::Stress => &["xx", "yy", "zz", "xy", "yz", "zx"],
             _ => &["x", "y", "z"],
         }
+    }
+}
+
+/// `[[expect]]` (addition to v1): the value a monitored quantity should have at the end of the
+/// run, from a closed form or an independent reference. Printed beside the answer and reported
+/// in `summary.json` under `checks`; it never changes how the run goes.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Expect {
+    /// A column of `history.csv`: `<monitor>.<quantity>.<component>`.
+    pub quantity: String,
+    /// Reference value, in the column's unit.
+    pub reference: f64,
+    /// Allowed relative difference, a fraction of |reference| [-].
+    #[serde(default = "Expect::default_tolerance")]
+    pub tolerance: f64,
+    /// Allowed absolute difference, in the column's unit (for references near zero).
+    #[serde(default)]
+    pub absolute_tolerance: f64,
+    /// Where the reference comes from.
+    #[serde(default)]
+    pub source: String,
+}
+
+impl Expect {
+    fn default_tolerance() -> f64 {
+        0.01
     }
 }

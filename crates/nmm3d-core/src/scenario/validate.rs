@@ -54,6 +54,7 @@ pub fn validate(s: &Scenario, file: &str) -> Result<()> {
     cutting(&mut c, s);
     loads(&mut c, s);
     monitors(&mut c, s);
+    expectations(&mut c, s);
     if c.problems.is_empty() {
         Ok(())
     } else {
@@ -267,6 +268,28 @@ fn monitors(c: &mut Checker, s: &Scenario) {
         if let MonitorSelect::Body(b) = &m.select {
             if !s.body.iter().any(|x| &x.name == b) {
                 c.fail(format!("{p}.select.body"), format!("there is no body named '{b}'"));
+            }
+        }
+    }
+}
+
+fn expectations(c: &mut Checker, s: &Scenario) {
+    let columns: HashSet<String> = s
+        .monitor
+        .iter()
+        .flat_map(|m| m.quantities.iter().flat_map(move |q| q.components().iter().map(move |k| format!("{}.{}.{k}", m.name, q.name()))))
+        .collect();
+    for (i, e) in s.expect.iter().enumerate() {
+        let p = format!("expect[{i}]");
+        if !columns.contains(&e.quantity) {
+            c.fail(format!("{p}.quantity"), format!("'{}' is not a monitored column (<monitor>.<quantity>.<component>)", e.quantity));
+        }
+        if !e.reference.is_finite() {
+            c.fail(format!("{p}.reference"), "must be a finite number");
+        }
+        for (k, v) in [("tolerance", e.tolerance), ("absolute_tolerance", e.absolute_tolerance)] {
+            if !(v >= 0.0 && v.is_finite()) {
+                c.fail(format!("{p}.{k}"), format!("must be a finite number >= 0, got {v}"));
             }
         }
     }

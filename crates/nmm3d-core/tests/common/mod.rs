@@ -20,7 +20,7 @@ pub fn out_dir(name: &str) -> PathBuf {
 
 /// Run and require completion.
 pub fn run_ok(text: &str, name: &str) -> RunOutcome {
-    let out = run(scenario(text), "<test>", &RunOptions { out: out_dir(name), progress: false }).unwrap_or_else(|e| panic!("{e}"));
+    let out = run(scenario(text), "<test>", &RunOptions { out: out_dir(name), progress: false, ..Default::default() }).unwrap_or_else(|e| panic!("{e}"));
     assert!(out.completed, "{}", out.summary["message"]);
     out
 }

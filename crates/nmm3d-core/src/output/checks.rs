@@ -1,0 +1,61 @@
+//! The run's answers beside their references (`[[expect]]`): the `checks` of `summary.json`.
+
+use serde_json::{json, Map, Value};
+
+use crate::scenario::Expect;
+
+/// One entry per expectation: the final value, the reference, the signed relative difference
+/// (difference / reference: negative when the answer falls short; null when the reference is zero) and whether the difference is within the tolerance.
+pub fn checks(expect: &[Expect], last: &Map<String, Value>) -> Value {
+    Value::Array(expect.iter().map(|e| check(e, last.get(&e.quantity).and_then(Value::as_f64))).collect())
+}
+
+fn check(e: &Expect, value: Option<f64>) -> Value {
+    let diff = value.map(|v| v - e.reference);
+    let relative = diff.filter(|_| e.reference != 0.0).map(|d| d / e.reference);
+    let allowed = (e.tolerance * e.reference.abs()).max(e.absolute_tolerance);
+    let passed = diff.is_some_and(|d| d.abs() <= allowed);
+    json!({
+        "quantity": e.quantity, "value": value, "reference": e.reference, "relative_difference": relative,
+        "tolerance": e.tolerance, "absolute_tolerance": e.absolute_tolerance, "passed": passed, "source": e.source,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn expect(reference: f64, tolerance: f64, absolute_tolerance: f64) -> Expect {
+        Expect { quantity: "tip.displacement.z".into(), reference, tolerance, absolute_tolerance, source: String::new() }
+    }
+
+    fn last(v: f64) -> Map<String, Value> {
+        let mut m = Map::new();
+        let _ = m.insert("tip.displacement.z".into(), json!(v));
+        m
+    }
+
+    #[test]
+    fn relative_tolerance_is_of_the_reference() {
+        let c = checks(&[expect(-0.04, 0.01, 0.0)], &last(-0.0397));
+        assert_eq!(c[0]["passed"], json!(true));
+        assert!((c[0]["relative_difference"].as_f64().unwrap() - -0.0075).abs() < 1e-12);
+        let c = checks(&[expect(-0.04, 0.01, 0.0)], &last(-0.0395));
+        assert_eq!(c[0]["passed"], json!(false));
+    }
+
+    #[test]
+    fn a_zero_reference_needs_the_absolute_tolerance() {
+        let c = checks(&[expect(0.0, 0.01, 1e-9)], &last(1e-12));
+        assert_eq!(c[0]["passed"], json!(true));
+        assert_eq!(c[0]["relative_difference"], Value::Null);
+        assert_eq!(checks(&[expect(0.0, 0.01, 0.0)], &last(1e-12))[0]["passed"], json!(false));
+    }
+
+    #[test]
+    fn a_missing_value_fails() {
+        let c = checks(&[expect(1.0, 0.5, 0.0)], &Map::new());
+        assert_eq!(c[0]["passed"], json!(false));
+        assert_eq!(c[0]["value"], Value::Null);
+    }
+}
