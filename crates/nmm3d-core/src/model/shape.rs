@@ -24,12 +24,19 @@ pub fn shape_to_pieces(shape: &Shape) -> Result<Vec<ConvexPolyhedron>, ShapeErro
             }
             Ok(vec![ConvexPolyhedron::from_box(Vec3::from(*min), Vec3::from(*max))])
         }
-        Shape::Convex { planes } => {
-            let mut ps = Vec::with_capacity(planes.len());
+        Shape::Convex { planes, faces } => {
+            let mut ps = Vec::with_capacity(planes.len() + faces.len());
             for (k, c) in planes.iter().enumerate() {
                 ps.push(Plane::from_coefficients(*c).ok_or_else(|| geom(".convex.planes", GeomError::ZeroNormal { index: k }))?);
             }
-            ConvexPolyhedron::from_planes(&ps).map(|p| vec![p]).map_err(|e| geom(".convex.planes", e))
+            for (k, f) in faces.iter().enumerate() {
+                if !(0.0..=90.0).contains(&f.dip) || !f.dip_direction.is_finite() || !f.point.iter().all(|x| x.is_finite()) {
+                    return Err((format!(".convex.faces[{k}]"), format!("dip must lie in [0, 90] and dip_direction and point be finite, got dip {}, dip_direction {}", f.dip, f.dip_direction)));
+                }
+                ps.push(Plane::from_coefficients(f.half_space()).ok_or_else(|| geom(".convex.faces", GeomError::ZeroNormal { index: ps.len() }))?);
+            }
+            let sub = if faces.is_empty() { ".convex.planes" } else { ".convex" };
+            ConvexPolyhedron::from_planes(&ps).map(|p| vec![p]).map_err(|e| geom(sub, e))
         }
         Shape::Polyhedron { vertices, faces } => polyhedron(vertices, faces).map_err(|(s, r)| (format!(".polyhedron{s}"), r)),
         Shape::Prism { polygon, z } => prism(polygon, *z).map_err(|r| (".prism".to_string(), r)),

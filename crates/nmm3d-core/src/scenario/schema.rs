@@ -412,10 +412,14 @@ pub enum Shape {
         /// Upper corner [m].
         max: [f64; 3],
     },
-    /// Intersection of half-spaces n·x ≤ d.
+    /// Intersection of half-spaces: n·x ≤ d, and sides of planes given by dip and dip direction.
     Convex {
         /// Rows `[nx, ny, nz, d]`.
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
         planes: Vec<[f64; 4]>,
+        /// Planes as geologists give them (addition to v1).
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
+        faces: Vec<OrientedFace>,
     },
     /// Closed polyhedron, faces counter-clockwise seen from outside.
     Polyhedron {
@@ -433,6 +437,43 @@ pub enum Shape {
     },
     /// Tunnel (excavations only).
     Tunnel(Tunnel),
+}
+
+/// One side of a plane given by dip, dip direction and a point (a slope face, a bench, a cut).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OrientedFace {
+    /// Dip [deg], 0 to 90.
+    pub dip: f64,
+    /// Dip direction [deg], clockwise from North (+y).
+    pub dip_direction: f64,
+    /// A point on the plane [m].
+    pub point: [f64; 3],
+    /// The side kept: "below" (the rock behind a slope face) or "above".
+    #[serde(default)]
+    pub keep: Side,
+}
+
+/// A side of an oriented plane; for a vertical plane "below" is the side away from its dip
+/// direction (the limit of the upward normal).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Side {
+    /// Against the upward normal.
+    #[default]
+    Below,
+    /// Along the upward normal.
+    Above,
+}
+
+impl OrientedFace {
+    /// The half-space kept, as `[nx, ny, nz, d]` with n·x ≤ d.
+    pub fn half_space(&self) -> [f64; 4] {
+        let n = nmm3d_geom::orientation::normal_from_dip(self.dip, self.dip_direction);
+        let n = if self.keep == Side::Below { n } else { -n };
+        let d = n.x * self.point[0] + n.y * self.point[1] + n.z * self.point[2];
+        [n.x, n.y, n.z, d]
+    }
 }
 
 /// Tunnel profile swept along an axis.
