@@ -172,8 +172,35 @@ def test_plot_draws_png(tmp_path):
     assert nmm3d("run", str(write(tmp_path, GOOD)), "--out", str(out)).returncode == 0
     r = nmm3d("plot", str(out))
     assert r.returncode == 0, r.stderr
-    png = out / "history.png"
-    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    for png in (out / "history.png", out / "diagnostics.png"):
+        assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+        assert str(png) in r.stdout
+
+
+def test_plot_labels_carry_units(tmp_path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from nmm3d.plot import plot_diagnostics, plot_history
+
+    out = tmp_path / "out"
+    assert nmm3d("run", str(write(tmp_path, GOOD)), "--out", str(out)).returncode == 0
+    labels = []
+    real = plt.Figure.savefig
+
+    def grab(fig, *a, **k):
+        labels.extend(ax.get_ylabel() for ax in fig.axes)
+        return real(fig, *a, **k)
+
+    plt.Figure.savefig = grab
+    try:
+        plot_history(out)
+        plot_diagnostics(out)
+    finally:
+        plt.Figure.savefig = real
+    assert "displacement [m]" in labels and "Δt [s]" in labels and "energy [J]" in labels
 
 
 def test_examples_validate():

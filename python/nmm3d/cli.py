@@ -40,9 +40,11 @@ def _parser() -> argparse.ArgumentParser:
     study.add_argument("--scheduler", default=None, metavar="ADDRESS",
                        help="a running Dask scheduler, e.g. tcp://host:8786 (instead of local workers)")
     study.add_argument("--quiet", action="store_true", help="no progress")
-    plot = sub.add_parser("plot", help="draw the monitored histories of a run to PNG")
+    plot = sub.add_parser("plot", help="draw a run's monitored histories, and its time step, unbalanced force and "
+                          "energy, to PNG")
     plot.add_argument("dir", type=Path)
-    plot.add_argument("--out", type=Path, default=None, help="PNG file (default DIR/history.png)")
+    plot.add_argument("--out", type=Path, default=None,
+                      help="PNG file of the histories (default DIR/history.png; the diagnostics go beside it)")
     return p
 
 
@@ -132,12 +134,15 @@ def _study(args: argparse.Namespace) -> int:
 
 
 def _plot(args: argparse.Namespace) -> int:
-    from nmm3d.plot import plot_history
+    from nmm3d.plot import plot_diagnostics, plot_history
 
     if not (args.dir / "history.csv").is_file():
         print(f"nmm3d: {args.dir} has no history.csv (is it a run's output directory?)", file=sys.stderr)
         return EXIT_INPUT
     print(plot_history(args.dir, args.out))
+    if (args.dir / "diagnostics.csv").is_file():
+        beside = None if args.out is None else args.out.with_name(args.out.stem + "_diagnostics.png")
+        print(plot_diagnostics(args.dir, beside))
     return EXIT_OK
 
 
