@@ -1,0 +1,67 @@
+"""docs/walkthrough.md: every command in its bash blocks runs, in order, and says what the page says."""
+
+from __future__ import annotations
+
+import csv
+import json
+import re
+import shlex
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from conftest import ROOT
+
+PAGE = ROOT / "docs" / "walkthrough.md"
+
+
+def commands() -> list[str]:
+    blocks = re.findall(r"```bash\n(.*?)```", PAGE.read_text(), flags=re.S)
+    return [line.strip() for b in blocks for line in b.splitlines() if line.strip()]
+
+
+def argv(command: str) -> list[str]:
+    words = shlex.split(command)
+    head = {"nmm3d": [sys.executable, "-m", "nmm3d"], "python": [sys.executable]}
+    assert words[0] in head, f"the walk-through may only use nmm3d and python: {command}"
+    return head[words[0]] + words[1:]
+
+
+@pytest.fixture(scope="module")
+def walked(tmp_path_factory) -> tuple[Path, dict[str, str]]:
+    here = tmp_path_factory.mktemp("walk")
+    for d in ("examples", "docs"):
+        (here / d).symlink_to(ROOT / d)
+    printed = {}
+    for c in commands():
+        if "picture.py" in c:
+            pytest.importorskip("pyvista")
+        r = subprocess.run(argv(c), cwd=here, capture_output=True, text=True, timeout=900)
+        assert r.returncode == 0, f"{c}\n{r.stderr}"
+        printed[c] = r.stdout
+    return here, printed
+
+
+def test_the_page_has_every_step():
+    text = " ".join(commands())
+    for step in ("nmm3d check", "nmm3d blocks", "nmm3d run", "nmm3d plot", "picture.py", "nmm3d study"):
+        assert step in text, step
+
+
+def test_every_command_runs_and_gives_what_the_page_says(walked):
+    here, printed = walked
+    out = here / "out"
+    with open(out / "slope_blocks" / "blocks.csv", newline="") as f:
+        layer = [float(r["volume"]) for r in csv.DictReader(f) if r["body"] == "layer"]
+    assert 40 <= len(layer) <= 50 and 0.9 < sum(layer) / len(layer) < 1.6  # "about 45 blocks of 1.2 m³"
+    assert json.loads((out / "slope" / "summary.json").read_text())["status"] == "completed"
+    for png in ("slope_blocks/stereonet.png", "slope/history.png", "slope/diagnostics.png", "slope.png",
+                "wedge_study/study.png"):
+        assert (out / png).read_bytes()[:4] == b"\x89PNG", png
+    study = json.loads((out / "wedge_study" / "study.json").read_text())
+    closed = next(v for k, v in printed.items() if "critical_friction_angle" in k)
+    assert "vector method: 31.81 deg" in closed
+    lo, hi = study["bracket"]
+    assert hi - lo <= 2.0 and lo - 1.0 < 31.81 < hi + 1.0
