@@ -158,6 +158,26 @@ def test_ctrl_c_stops_after_the_current_step_with_a_valid_summary(tmp_path):
         rows = f.read().splitlines()
     assert len(rows) - 1 == s["steps"] + 1  # every accepted step and t = 0
     assert (out / "result.pvd").is_file()
+    assert "--resume" in err
+    # The checkpoint continues the run: here to a shorter end than it was started for.
+    r = nmm3d("run", str(EXAMPLES / "incline.toml"), "--out", str(out), "--resume", "--quiet",
+              "--set", f"analysis.duration={s['time'] + 0.05}")
+    assert r.returncode == 0, r.stderr
+    resumed = json.loads((out / "summary.json").read_text())
+    assert resumed["status"] == "completed" and resumed["resumed_from"]["step"] == s["steps"]
+    assert resumed["steps"] > s["steps"]
+    with open(out / "history.csv") as f:
+        assert len(f.read().splitlines()) - 1 == resumed["steps"] + 1
+
+
+def test_resume_refuses_a_changed_scenario(tmp_path):
+    out = tmp_path / "r"
+    assert nmm3d("run", str(write(tmp_path, GOOD)), "--out", str(out), "--quiet").returncode == 0
+    r = nmm3d("run", str(write(tmp_path, GOOD.replace("young = 1.0e9", "young = 2.0e9"))), "--out", str(out),
+              "--resume", "--quiet")
+    assert r.returncode == 2 and "material[0].young" in r.stderr, r.stderr
+    r = nmm3d("run", str(write(tmp_path, GOOD)), "--out", str(tmp_path / "none"), "--resume", "--quiet")
+    assert r.returncode == 2 and "there is no checkpoint.json" in r.stderr, r.stderr
 
 
 def test_expect_must_name_a_monitored_column(tmp_path):

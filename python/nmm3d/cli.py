@@ -24,6 +24,9 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
                      help="override a scalar or array, e.g. joint.smooth.friction_angle=24")
     run.add_argument("--quiet", action="store_true", help="no progress line")
+    run.add_argument("--resume", action="store_true",
+                     help="continue the run whose checkpoint.json is in --out (after Ctrl-C, a crash, or to go on "
+                          "past its duration with --set analysis.duration=...)")
     check = sub.add_parser("check", help="validate a scenario without running it")
     check.add_argument("file", type=Path)
     check.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE")
@@ -51,10 +54,11 @@ def _parser() -> argparse.ArgumentParser:
 def _run(args: argparse.Namespace) -> int:
     scenario = load(args.file, args.overrides)
     try:
-        result = scenario.run(args.out, progress=not args.quiet)
+        result = scenario.run(args.out, progress=not args.quiet, resume=args.resume)
     except KeyboardInterrupt as e:
         print(f"nmm3d: {e}", file=sys.stderr)
-        print(f"summary.json (status \"interrupted\") and the outputs so far are in {args.out}", file=sys.stderr)
+        print(f"summary.json (status \"interrupted\"), the outputs so far and checkpoint.json are in {args.out}; "
+              f"continue with: nmm3d run {args.file} --out {args.out} --resume", file=sys.stderr)
         return EXIT_INTERRUPTED
     s = result.summary
     line = (f"{s['status']}: {s['message']} — {s['steps']} steps, t = {s['time']:.6g} s, "

@@ -38,15 +38,20 @@ class Scenario:
         """A copy with ``KEY=VALUE`` overrides applied (as ``--set`` on the command line)."""
         return Scenario(_core.load_json(self._json, self.label, list(overrides)), self.label)
 
-    def run(self, out: str | os.PathLike[str], progress: bool = False) -> Result:
+    def run(self, out: str | os.PathLike[str], progress: bool = False, resume: bool = False) -> Result:
         """Run and write the outputs to ``out``; returns the :class:`Result`.
 
         A run that fails numerically still returns a result with ``status == "failed"`` and
         valid outputs up to the last good step. The GIL is released while computing. Ctrl-C
         stops the run after the current step: the outputs and ``summary.json`` (``status ==
         "interrupted"``) are written, then ``KeyboardInterrupt`` is raised.
+
+        ``resume=True`` continues the run whose ``checkpoint.json`` is in ``out`` (written when
+        a run completes or is interrupted, and every ``analysis.checkpoint_interval`` seconds),
+        exactly as if it had not stopped; only ``analysis.duration``, ``max_steps`` and
+        ``checkpoint_interval`` may differ from the checkpoint's scenario.
         """
-        _core.run_json(self._json, self.label, os.fspath(out), progress)
+        _core.run_json(self._json, self.label, os.fspath(out), progress, resume)
         result = Result(Path(out))
         if result.status == "interrupted":
             raise KeyboardInterrupt(result.summary["message"])

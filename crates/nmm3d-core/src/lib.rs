@@ -9,11 +9,12 @@
 //! | $(\mathbf K + \mathbf M/(\beta\Delta t^2))\,\mathbf d = \dots$ | implicit step | [`time`] |
 //!
 //! Layers (each only uses those above it): `scenario` → `model` → `cover` → `element` →
-//! `assembly`, `solver` → `time` → `output` → `simulation`.
+//! `assembly`, `solver` → `time` → `output` → `checkpoint` → `simulation`.
 #![warn(missing_docs)]
 
 pub mod assembly;
 pub mod blocks;
+pub mod checkpoint;
 pub mod contact;
 pub mod cover;
 pub mod element;

@@ -10,6 +10,7 @@ use std::time::Instant;
 
 use serde_json::{json, Map, Value};
 
+use crate::checkpoint::{self, Checkpoint, RecordSnapshot};
 use crate::contact::ContactSet;
 use crate::error::{Error, Result};
 use crate::monitor::MonitorPlan;
@@ -48,6 +49,8 @@ pub struct RunOptions {
     pub progress: bool,
     /// Checked after every accepted step (the Python binding checks for Ctrl-C).
     pub stop: Option<StopRequest>,
+    /// Continue the run whose `checkpoint.json` is in `out` instead of starting afresh.
+    pub resume: bool,
 }
 
 /// How the stepping ended (errors aside).
@@ -58,33 +61,43 @@ enum End {
     Interrupted(String),
 }
 
-/// Run a validated scenario. `Err` only for invalid input or unwritable outputs; a run that
-/// fails numerically returns `Ok` with `completed = false`.
+/// Run a validated scenario (or, with `opts.resume`, continue the run whose checkpoint is in
+/// `opts.out`). `Err` only for invalid input or unwritable outputs; a run that fails
+/// numerically returns `Ok` with `completed = false`.
 pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutcome> {
     let t_start = Instant::now();
+    let out = &opts.out;
+    let resumed = if opts.resume { Some(checkpoint::read(out, &scenario, label)?) } else { None };
+    let mut saver = Saver::new(out, checkpoint::comparable(&scenario), scenario.analysis.checkpoint_interval);
     let sys = System::build(scenario, label)?;
     let monitors = MonitorPlan::all(&sys, label)?;
-    let mut state = State::initial(&sys);
-    let mut stepper = Stepper::new(&sys, &state, label)?;
-    let out = &opts.out;
     std::fs::create_dir_all(out.join("frames")).map_err(|e| Error::io(out, e))?;
     let _ = std::fs::remove_file(out.join("summary.json"));
     tables::write_blocks(&sys, out)?;
     let mut rec = Recorder::new(&sys, monitors, out);
+    let resumed_at = resumed.as_ref().map(|c| (c.state.step, c.state.time));
+    let (mut state, mut stepper) = match resumed {
+        Some(c) => {
+            rec.restore(c.record);
+            saver.initial_equilibrium = c.initial_equilibrium;
+            (c.state, Stepper::resume(&sys, c.stepper))
+        }
+        None => {
+            let state = State::initial(&sys);
+            let stepper = Stepper::new(&sys, &state, label)?;
+            (state, stepper)
+        }
+    };
     let mode = match (opts.progress, std::io::stderr().is_terminal()) {
         (false, _) => ProgressMode::Off,
         (true, true) => ProgressMode::Terminal,
         (true, false) => ProgressMode::Log,
     };
-    let mut settled = None;
     let mut progress = None;
-    let result = stepper.initialize(&sys, &mut state).and_then(|_| {
-        if sys.scenario.analysis.initial_equilibrium {
-            settled = Some(stepper.settle(&sys, &mut state)?);
-        }
-        rec.record(&sys, &state, stepper.contacts(), true)?;
+    let started = if resumed_at.is_some() { Ok(()) } else { start(&sys, &mut state, &mut stepper, &mut rec, &mut saver) };
+    let result = started.and_then(|_| {
         let p = progress.insert(Progress::new(mode, &state));
-        advance(&sys, &mut state, &mut stepper, &mut rec, p, opts.stop.as_ref())
+        advance(&sys, &mut state, &mut stepper, &mut rec, p, opts.stop.as_ref(), &mut saver)
     });
     if let Some(p) = &progress {
         p.finish();
@@ -97,17 +110,67 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
     };
     let completed = status == "completed";
     rec.finish(&sys, &state, stepper.contacts())?;
+    if status != "failed" {
+        saver.save(&state, &stepper, &rec)?;
+    }
     let mut summary = summary(&sys, &state, &stepper, &rec, status, &message, t_start.elapsed().as_secs_f64());
-    if let (Some((steps, unbalanced)), Some(map)) = (settled, summary.as_object_mut()) {
-        let _ = map.insert("initial_equilibrium".into(), json!({"steps": steps, "unbalanced_force_ratio": unbalanced}));
+    if let Some(map) = summary.as_object_mut() {
+        if let Some((steps, unbalanced)) = saver.initial_equilibrium {
+            let _ = map.insert("initial_equilibrium".into(), json!({"steps": steps, "unbalanced_force_ratio": unbalanced}));
+        }
+        if let Some((step, time)) = resumed_at {
+            let _ = map.insert("resumed_from".into(), json!({"step": step, "time": time}));
+        }
     }
     let text = serde_json::to_string_pretty(&summary).expect("a JSON value serialises");
     atomic::write(&out.join("summary.json"), text.as_bytes())?;
     Ok(RunOutcome { summary, completed })
 }
 
+/// A fresh run's start: initial accelerations, the initial equilibrium if asked for, the first
+/// history row and frame.
+fn start(sys: &System, state: &mut State, stepper: &mut Stepper, rec: &mut Recorder, saver: &mut Saver) -> Result<()> {
+    stepper.initialize(sys, state)?;
+    if sys.scenario.analysis.initial_equilibrium {
+        saver.initial_equilibrium = Some(stepper.settle(sys, state)?);
+    }
+    rec.record(sys, state, stepper.contacts(), true)
+}
+
+/// Writes `checkpoint.json`: every `interval` wall seconds during the run and at its end.
+struct Saver {
+    out: PathBuf,
+    scenario: Value,
+    interval: f64,
+    last: Instant,
+    initial_equilibrium: Option<(u64, f64)>,
+}
+
+impl Saver {
+    fn new(out: &Path, scenario: Value, interval: f64) -> Self {
+        Self { out: out.to_path_buf(), scenario, interval, last: Instant::now(), initial_equilibrium: None }
+    }
+
+    fn save(&mut self, state: &State, stepper: &Stepper, rec: &Recorder) -> Result<()> {
+        let c = Checkpoint {
+            version: checkpoint::VERSION,
+            scenario: self.scenario.clone(),
+            state: state.clone(),
+            stepper: stepper.snapshot(),
+            record: rec.snapshot(),
+            initial_equilibrium: self.initial_equilibrium,
+        };
+        self.last = Instant::now();
+        checkpoint::write(&self.out, &c)
+    }
+
+    fn due(&self) -> bool {
+        self.interval > 0.0 && self.last.elapsed().as_secs_f64() >= self.interval
+    }
+}
+
 /// Step until the end or a stop request.
-fn advance(sys: &System, state: &mut State, stepper: &mut Stepper, rec: &mut Recorder, progress: &mut Progress, stop: Option<&StopRequest>) -> Result<End> {
+fn advance(sys: &System, state: &mut State, stepper: &mut Stepper, rec: &mut Recorder, progress: &mut Progress, stop: Option<&StopRequest>, saver: &mut Saver) -> Result<End> {
     let a = &sys.scenario.analysis;
     let end = a.duration;
     loop {
@@ -135,6 +198,9 @@ fn advance(sys: &System, state: &mut State, stepper: &mut Stepper, rec: &mut Rec
         progress.step(a, state, &report);
         if a.kind == AnalysisKind::Static && state.step > 1 && report.unbalanced <= a.equilibrium_tolerance {
             return Ok(End::Completed(format!("equilibrium reached (unbalanced force ratio {:.3e})", report.unbalanced)));
+        }
+        if saver.due() {
+            saver.save(state, stepper, rec)?;
         }
         if stop.is_some_and(|s| (s.0)()) {
             return Ok(End::Interrupted(format!("interrupted at step {} (t = {} s); the outputs are valid up to this step", state.step, state.time)));
@@ -235,6 +301,36 @@ impl Recorder {
         }
         tables::write_diagnostics(&self.out, &self.diagnostics)?;
         self.history.write(&self.out)
+    }
+
+    fn snapshot(&self) -> RecordSnapshot {
+        RecordSnapshot {
+            history: self.history.rows.clone(),
+            diagnostics: self.diagnostics.clone(),
+            frames: self.frames.clone(),
+            next_history: self.next_history,
+            next_frame: self.next_frame,
+            last_frame_step: self.last_frame_step,
+            last_unbalanced: Some(self.last_unbalanced).filter(|x| !x.is_nan()),
+            cuts: self.cuts,
+            max_penetration: self.max_penetration,
+            max_contacts: self.max_contacts,
+            open_close: self.open_close,
+        }
+    }
+
+    fn restore(&mut self, s: RecordSnapshot) {
+        self.history.rows = s.history;
+        self.diagnostics = s.diagnostics;
+        self.frames = s.frames;
+        self.next_history = s.next_history;
+        self.next_frame = s.next_frame;
+        self.last_frame_step = s.last_frame_step;
+        self.last_unbalanced = s.last_unbalanced.unwrap_or(f64::NAN);
+        self.cuts = s.cuts;
+        self.max_penetration = s.max_penetration;
+        self.max_contacts = s.max_contacts;
+        self.open_close = s.open_close;
     }
 
     fn final_values(&self) -> Map<String, Value> {

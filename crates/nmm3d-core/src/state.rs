@@ -6,7 +6,7 @@ use crate::scenario::AnalysisKind;
 use crate::system::System;
 
 /// Positions, velocities and accelerations of the physical covers, and time.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct State {
     /// Simulated time [s].
     pub time: f64,

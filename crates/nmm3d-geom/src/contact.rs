@@ -30,7 +30,7 @@ use crate::polygon;
 use crate::polyhedron::ConvexPolyhedron;
 
 /// Which features meet at a contact point.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Mode {
     /// A vertex of A against a face of B.
     VertexOfA,

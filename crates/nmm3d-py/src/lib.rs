@@ -30,15 +30,16 @@ fn load_json(py: Python<'_>, text: String, label: String, overrides: Vec<String>
 
 /// Run a scenario (JSON text) writing outputs to `out`; returns the summary as JSON text.
 /// Ctrl-C (a pending Python signal, e.g. `KeyboardInterrupt`) stops the run after the current
-/// step with status "interrupted"; the signal is consumed.
+/// step with status "interrupted"; the signal is consumed. `resume`: continue the run whose
+/// `checkpoint.json` is in `out`.
 #[pyfunction]
-#[pyo3(signature = (text, label, out, progress = false))]
-fn run_json(py: Python<'_>, text: String, label: String, out: PathBuf, progress: bool) -> PyResult<String> {
+#[pyo3(signature = (text, label, out, progress = false, resume = false))]
+fn run_json(py: Python<'_>, text: String, label: String, out: PathBuf, progress: bool, resume: bool) -> PyResult<String> {
     let stop = StopRequest(std::sync::Arc::new(|| Python::attach(|py| py.check_signals().is_err())));
     let outcome = py.detach(|| {
         errors::guard("running", || {
             let s = scenario::from_json_str(&text, &label, &[])?;
-            simulation::run(s, &label, &RunOptions { out, progress, stop: Some(stop) })
+            simulation::run(s, &label, &RunOptions { out, progress, stop: Some(stop), resume })
         })
     })?;
     Ok(outcome.summary.to_string())

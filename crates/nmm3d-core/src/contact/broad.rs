@@ -10,7 +10,7 @@
 use nmm3d_geom::{Aabb, ConvexPolyhedron, Vec3};
 
 /// The candidate pairs and what they were built from.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Warning {
     /// Candidate pairs (i, j) of piece indices, i < j, sorted.
     pub pairs: Vec<(usize, usize)>,

@@ -25,6 +25,7 @@
 
 pub mod broad;
 pub mod facets;
+pub mod snapshot;
 pub mod surface;
 
 use std::sync::OnceLock;
@@ -32,6 +33,7 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
+use serde::{Deserialize, Serialize};
 
 use nmm3d_geom::contact::{detect_prepared, Contact, DetectParams, Mode, Prepared};
 use nmm3d_geom::ConvexPolyhedron;
@@ -47,7 +49,7 @@ use facets::Candidate;
 use surface::{ContactPiece, MaterialPoint};
 
 /// State of one contact point.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum ContactState {
     /// Separated: no force.
     Open,
@@ -69,7 +71,7 @@ impl ContactState {
 }
 
 /// One contact point between blocks A and B.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ContactRecord {
     /// Blocks (A, B).
     pub blocks: (usize, usize),
@@ -121,7 +123,7 @@ pub struct ContactRecord {
 }
 
 /// Strength of a contact point: tan φ, and the bond (cohesion and tensile forces) it still has.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Strength {
     /// tan φ.
     pub tan_phi: f64,
@@ -138,7 +140,7 @@ impl Strength {
 }
 
 /// Penalties and tolerances of the contact algorithm.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ContactParams {
     /// Normal penalty of a point carrying one cover cell's face of area (size²), and of a point
     /// contact [N/m].

@@ -9,7 +9,7 @@ use crate::state::State;
 use crate::system::System;
 
 /// A material point: the ME holding it and its weights (reference position kept).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct MaterialPoint {
     /// ME index.
     pub element: usize,

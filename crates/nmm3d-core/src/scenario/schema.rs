@@ -161,6 +161,10 @@ pub struct Analysis {
     /// locked (no sliding, no opening), then start from that state with the given velocities
     /// at t = 0 (addition).
     pub initial_equilibrium: bool,
+    /// Wall-clock seconds between checkpoints written during a run (`checkpoint.json`, for
+    /// `--resume`); one is always written when a run completes or is interrupted; 0 = only
+    /// then [s] (addition).
+    pub checkpoint_interval: f64,
 }
 
 /// Fill-reducing ordering of the sparse Cholesky factorisation.
@@ -214,6 +218,7 @@ impl Default for Analysis {
             open_close_cut: 0.3,
             open_close_tolerance: 0.0,
             initial_equilibrium: false,
+            checkpoint_interval: 600.0,
         }
     }
 }

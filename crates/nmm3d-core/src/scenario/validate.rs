@@ -63,6 +63,9 @@ pub fn validate(s: &Scenario, file: &str) -> Result<()> {
 }
 
 fn analysis(c: &mut Checker, a: &Analysis) {
+    if !(a.checkpoint_interval >= 0.0 && a.checkpoint_interval.is_finite()) {
+        c.fail("analysis.checkpoint_interval", format!("must be a finite number >= 0, got {}", a.checkpoint_interval));
+    }
     c.positive("analysis.duration", a.duration);
     c.positive("analysis.dt", a.dt);
     c.positive("analysis.max_displacement_ratio", a.max_displacement_ratio);

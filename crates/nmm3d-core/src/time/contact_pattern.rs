@@ -77,6 +77,13 @@ impl ContactPattern {
         self.last_closed.retain(|_, &mut last| last + RETAIN_STEPS >= step);
         let mut pairs: Vec<(usize, usize)> = self.last_closed.keys().copied().collect();
         pairs.sort_unstable();
+        self.grow(sys, &pairs);
+        self.rebuilds += 1;
+        true
+    }
+
+    /// The pattern of the elements plus a clique per pair in `pairs` (sorted).
+    fn grow(&mut self, sys: &System, pairs: &[(usize, usize)]) {
         let cliques: Vec<Vec<usize>> = pairs.iter().map(|&(a, b)| pair_clique(sys, a, b)).collect();
         let masters: Vec<Vec<usize>> = cliques.iter().map(|c| masters_of(&sys.dofs, c).0).collect();
         let elements = &sys.assembler.pattern;
@@ -84,7 +91,36 @@ impl ContactPattern {
         let from_elements = elements.embedding(&pattern);
         let couplings = pairs.iter().zip(&cliques).map(|(&p, c)| (p, Coupling::new(&pattern, &sys.dofs, c))).collect();
         self.grown = Some(Grown { pattern, from_elements, couplings });
-        self.rebuilds += 1;
-        true
     }
+
+    /// What rebuilds this pattern exactly (checkpoints): its pairs and their last closing steps.
+    pub fn snapshot(&self) -> PatternSnapshot {
+        let mut pairs: Vec<(usize, usize)> = self.grown.as_ref().map(|g| g.couplings.keys().copied().collect()).unwrap_or_default();
+        pairs.sort_unstable();
+        let mut last_closed: Vec<((usize, usize), u64)> = self.last_closed.iter().map(|(&p, &s)| (p, s)).collect();
+        last_closed.sort_unstable();
+        PatternSnapshot { grown: self.grown.is_some(), pairs, last_closed, rebuilds: self.rebuilds }
+    }
+
+    /// The pattern a snapshot describes.
+    pub fn restore(sys: &System, s: &PatternSnapshot) -> Self {
+        let mut p = Self { grown: None, last_closed: s.last_closed.iter().copied().collect(), rebuilds: s.rebuilds };
+        if s.grown {
+            p.grow(sys, &s.pairs);
+        }
+        p
+    }
+}
+
+/// A [`ContactPattern`] as data.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct PatternSnapshot {
+    /// Whether the pattern holds contact couplings at all.
+    pub grown: bool,
+    /// The pairs of MEs (lower first) with a clique, sorted.
+    pub pairs: Vec<(usize, usize)>,
+    /// Step at which each pair last had a closed point, sorted.
+    pub last_closed: Vec<((usize, usize), u64)>,
+    /// Times the pattern grew.
+    pub rebuilds: u64,
 }

@@ -21,10 +21,10 @@
 //! conservation in Newmark based time integration algorithms", CMAME 195, for the split of the
 //! Newmark step's energy.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Cumulative energy accounts [J].
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 pub struct Energy {
     /// Kinetic energy now.
     pub kinetic: f64,

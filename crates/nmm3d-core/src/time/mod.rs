@@ -4,6 +4,7 @@ pub mod contact_pattern;
 pub mod corotation;
 pub mod energy;
 pub mod integrator;
+pub mod snapshot;
 pub mod step_control;
 pub mod stepper;
 

@@ -22,7 +22,7 @@ use crate::state::State;
 use crate::system::System;
 
 /// Diagnostics of one accepted step.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct StepReport {
     /// Contact points detected at the start of the step.
     pub contacts: usize,
@@ -60,19 +60,19 @@ pub struct PhaseTimes {
 
 /// Orchestrates steps; owns the linear solver and work buffers.
 pub struct Stepper {
-    solver: Box<dyn LinearSolver>,
+    pub(super) solver: Box<dyn LinearSolver>,
     /// The system matrix's pattern (grown by contacts).
-    pattern: ContactPattern,
-    contacts: Option<ContactSet>,
-    newmark: Newmark,
-    tangent: Vec<f64>,
-    values: Vec<f64>,
-    force_scale: f64,
+    pub(super) pattern: ContactPattern,
+    pub(super) contacts: Option<ContactSet>,
+    pub(super) newmark: Newmark,
+    pub(super) tangent: Vec<f64>,
+    pub(super) values: Vec<f64>,
+    pub(super) force_scale: f64,
     /// Contacts locked (initial equilibrium): closed points stick whatever the force.
-    locked: bool,
+    pub(super) locked: bool,
     /// Steps carry the inertia term; without it a step is a Newton iteration of the static
     /// equilibrium (the initial equilibrium's first try).
-    inertia: bool,
+    pub(super) inertia: bool,
     /// Step cuts because a contact overlapped beyond the allowed depth.
     pub penetration_cuts: u64,
     /// Times the contact penalties were raised because a contact overlapped too deep.
@@ -519,7 +519,7 @@ fn scatter_into(sys: &System, x: &[f64], out: &mut [Vec3]) {
 /// Contact penalties and tolerances from the scenario ("auto": k_n = 10 × largest E × cover
 /// size, k_s = k_n; detection margin twice the largest step displacement, warning skin twice
 /// the margin).
-fn contact_params(sys: &System) -> ContactParams {
+pub(super) fn contact_params(sys: &System) -> ContactParams {
     let a = &sys.scenario.analysis;
     let young = sys.geometry.materials.iter().map(|m| m.young).fold(0.0, f64::max);
     let size = sys.covers.mesh.size;

@@ -1,0 +1,145 @@
+//! `checkpoint.json`: everything a run needs to continue exactly where it stopped — the whole
+//! [`State`], the stepper's contact points, pattern and counters, and what the recorder has
+//! gathered — with the scenario it belongs to. `nmm3d run --resume` reads it; a resumed run
+//! continues bit for bit as if it had never stopped (`tests/contract_checkpoint.rs`).
+//!
+//! JSON, so a checkpoint can be read and compared by people and tools; floats round-trip exactly
+//! (shortest representation out, `serde_json`'s `float_roundtrip` in).
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
+
+use crate::error::{Error, Problem, Result};
+use crate::output::atomic;
+use crate::scenario::Scenario;
+use crate::state::State;
+use crate::time::snapshot::StepperSnapshot;
+use crate::time::StepReport;
+
+/// Version of the file format.
+pub const VERSION: u32 = 1;
+/// File name in the output directory.
+pub const FILE: &str = "checkpoint.json";
+
+/// Scenario keys a resumed run may change: how far it goes, not how it gets there.
+const MAY_CHANGE: [&str; 3] = ["duration", "max_steps", "checkpoint_interval"];
+
+/// A run stopped at the end of an accepted step.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Checkpoint {
+    /// File format version.
+    pub version: u32,
+    /// The scenario as run, without the keys a resumed run may change.
+    pub scenario: Value,
+    /// The whole state of the model.
+    pub state: State,
+    /// The stepper's state.
+    pub stepper: StepperSnapshot,
+    /// The outputs gathered so far.
+    pub record: RecordSnapshot,
+    /// Steps and unbalanced force ratio of the initial equilibrium, when there was one.
+    pub initial_equilibrium: Option<(u64, f64)>,
+}
+
+/// What the recorder has gathered.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RecordSnapshot {
+    /// History rows: time, step, monitor values.
+    pub history: Vec<(f64, u64, Vec<f64>)>,
+    /// Diagnostics rows: time, step, the step's report.
+    pub diagnostics: Vec<(f64, u64, StepReport)>,
+    /// Frames written: time, blocks file, contact file.
+    pub frames: Vec<(f64, String, Option<String>)>,
+    /// Time of the next history row [s].
+    pub next_history: f64,
+    /// Time of the next frame [s].
+    pub next_frame: f64,
+    /// Step of the last frame.
+    pub last_frame_step: Option<u64>,
+    /// Unbalanced force ratio of the last step.
+    pub last_unbalanced: Option<f64>,
+    /// Step cuts so far.
+    pub cuts: u64,
+    /// Largest penetration so far [m].
+    pub max_penetration: f64,
+    /// Most contact points so far.
+    pub max_contacts: usize,
+    /// Open–close iterations so far.
+    pub open_close: u64,
+}
+
+/// The scenario as a checkpoint records it.
+pub fn comparable(s: &Scenario) -> Value {
+    let mut v = serde_json::to_value(s).expect("a validated scenario serialises");
+    if let Some(a) = v.get_mut("analysis").and_then(Value::as_object_mut) {
+        for k in MAY_CHANGE {
+            let _ = a.remove(k);
+        }
+    }
+    if let Some(m) = v.as_object_mut() {
+        let _ = m.remove("expect");
+        let _ = m.remove("study");
+    }
+    v
+}
+
+/// Write `checkpoint.json` in `out` (atomically).
+pub fn write(out: &Path, c: &Checkpoint) -> Result<()> {
+    let text = serde_json::to_vec(c).expect("a checkpoint serialises");
+    atomic::write(&out.join(FILE), &text)
+}
+
+/// Read `out/checkpoint.json` and check it belongs to `scenario` (`label` names it).
+pub fn read(out: &Path, scenario: &Scenario, label: &str) -> Result<Checkpoint> {
+    let path = out.join(FILE);
+    let problem = |reason: String| Error::Scenario { file: label.to_string(), problems: vec![Problem { path: "--resume".into(), reason }] };
+    let text = match std::fs::read(&path) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            return Err(problem(format!("there is no {FILE} in {} (a run writes it when it completes or is interrupted, and every analysis.checkpoint_interval seconds)", out.display())));
+        }
+        r => r.map_err(|e| Error::io(&path, e))?,
+    };
+    let c: Checkpoint = serde_json::from_slice(&text).map_err(|e| problem(format!("{} is not a checkpoint of this version: {e}", path.display())))?;
+    if c.version != VERSION {
+        return Err(problem(format!("{} has format version {}, this nmm3d reads {VERSION}", path.display(), c.version)));
+    }
+    if let Some(key) = first_difference(&c.scenario, &comparable(scenario), String::new()) {
+        return Err(problem(format!("the scenario differs from the checkpoint's at '{key}' (only analysis.duration, max_steps and checkpoint_interval may change)")));
+    }
+    Ok(c)
+}
+
+/// The key path of the first difference between two JSON values.
+fn first_difference(a: &Value, b: &Value, path: String) -> Option<String> {
+    let join = |k: &str| if path.is_empty() { k.to_string() } else { format!("{path}.{k}") };
+    match (a, b) {
+        (Value::Object(x), Value::Object(y)) => {
+            x.keys().chain(y.keys()).find_map(|k| match (x.get(k), y.get(k)) {
+                (Some(p), Some(q)) => first_difference(p, q, join(k)),
+                _ => Some(join(k)),
+            })
+        }
+        (Value::Array(x), Value::Array(y)) if x.len() == y.len() => x.iter().zip(y).enumerate().find_map(|(i, (p, q))| first_difference(p, q, format!("{path}[{i}]"))),
+        _ => (a != b).then_some(if path.is_empty() { "(the whole scenario)".into() } else { path }),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::first_difference;
+    use serde_json::json;
+
+    #[test]
+    fn the_first_difference_is_named_by_its_key_path() {
+        let a = json!({"analysis": {"dt": 0.001}, "body": [{"name": "a"}, {"name": "b"}]});
+        assert_eq!(first_difference(&a, &a, String::new()), None);
+        let b = json!({"analysis": {"dt": 0.002}, "body": [{"name": "a"}, {"name": "b"}]});
+        assert_eq!(first_difference(&a, &b, String::new()).as_deref(), Some("analysis.dt"));
+        let c = json!({"analysis": {"dt": 0.001}, "body": [{"name": "a"}, {"name": "c"}]});
+        assert_eq!(first_difference(&a, &c, String::new()).as_deref(), Some("body[1].name"));
+        let d = json!({"analysis": {"dt": 0.001, "kind": "static"}, "body": [{"name": "a"}, {"name": "b"}]});
+        assert_eq!(first_difference(&a, &d, String::new()).as_deref(), Some("analysis.kind"));
+    }
+}

@@ -1,0 +1,79 @@
+//! The stepper's run state as data (checkpoints): with the [`State`] it restarts a run exactly
+//! where it stopped. The solver, the work buffers and the contact surfaces are rebuilt from the
+//! model; the contact points, the matrix pattern they grew, the penalties as raised, the force
+//! scale, the counters and the energy accounts are kept.
+
+use serde::{Deserialize, Serialize};
+
+use super::contact_pattern::{ContactPattern, PatternSnapshot};
+use super::stepper::{contact_params, PhaseTimes, Stepper};
+use super::{Energy, Newmark};
+use crate::contact::snapshot::ContactSnapshot;
+use crate::contact::ContactSet;
+use crate::solver::FaerCholesky;
+use crate::system::System;
+
+/// A [`Stepper`]'s state.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StepperSnapshot {
+    /// Contact points and their history (`None` without contact).
+    pub contacts: Option<ContactSnapshot>,
+    /// The matrix pattern grown by contacts.
+    pub pattern: PatternSnapshot,
+    /// Force scale of the unbalanced force ratio [N].
+    pub force_scale: f64,
+    /// Contacts locked.
+    pub locked: bool,
+    /// Steps carry inertia.
+    pub inertia: bool,
+    /// Penetration cuts so far.
+    pub penetration_cuts: u64,
+    /// Penalty raises so far.
+    pub penalty_raises: u32,
+    /// Energy accounts so far.
+    pub energy: Option<Energy>,
+}
+
+impl Stepper {
+    /// The stepper's state.
+    pub fn snapshot(&self) -> StepperSnapshot {
+        StepperSnapshot {
+            contacts: self.contacts.as_ref().map(ContactSet::snapshot),
+            pattern: self.pattern.snapshot(),
+            force_scale: self.force_scale,
+            locked: self.locked,
+            inertia: self.inertia,
+            penetration_cuts: self.penetration_cuts,
+            penalty_raises: self.penalty_raises,
+            energy: self.energy,
+        }
+    }
+
+    /// A stepper continuing from a snapshot taken on the same model (no initial detection: the
+    /// contact points are the snapshot's).
+    pub fn resume(sys: &System, s: StepperSnapshot) -> Self {
+        let nnz = sys.assembler.pattern.nnz();
+        let contacts = match (s.contacts, sys.scenario.contact.enabled) {
+            (Some(snap), true) => ContactSet::new(sys, contact_params(sys)).map(|mut c| {
+                c.restore(snap);
+                c
+            }),
+            _ => None,
+        };
+        Self {
+            solver: Box::new(FaerCholesky::new(sys.scenario.analysis.ordering)),
+            pattern: ContactPattern::restore(sys, &s.pattern),
+            contacts,
+            newmark: Newmark::from_analysis(&sys.scenario.analysis),
+            tangent: vec![0.0; nnz],
+            values: vec![0.0; nnz],
+            force_scale: s.force_scale,
+            locked: s.locked,
+            inertia: s.inertia,
+            penetration_cuts: s.penetration_cuts,
+            penalty_raises: s.penalty_raises,
+            times: PhaseTimes::default(),
+            energy: s.energy,
+        }
+    }
+}

@@ -1,0 +1,82 @@
+//! Contract: a run stopped mid-way (with contacts) and resumed from its checkpoint continues
+//! bit for bit as the run that never stopped; the whole state round-trips through the file.
+
+mod common;
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
+
+use common::{out_dir, scenario};
+use nmm3d_core::checkpoint::{self, Checkpoint};
+use nmm3d_core::simulation::{run, RunOptions, StopRequest};
+use nmm3d_core::Error;
+
+/// Stops the run after `steps` accepted steps.
+fn stop_after(steps: u64) -> StopRequest {
+    let seen = Arc::new(AtomicU64::new(0));
+    StopRequest(Arc::new(move || seen.fetch_add(1, Ordering::SeqCst) + 1 >= steps))
+}
+
+fn read(dir: &std::path::Path, file: &str) -> Vec<u8> {
+    std::fs::read(dir.join(file)).unwrap_or_else(|e| panic!("{file}: {e}"))
+}
+
+fn checkpoint_of(dir: &std::path::Path) -> Checkpoint {
+    serde_json::from_slice(&read(dir, checkpoint::FILE)).expect("a checkpoint")
+}
+
+/// Run `text` whole, and again stopped after `at` steps then resumed; compare.
+fn stopped_and_resumed_equals_whole(name: &str, text: &str, at: u64) {
+    let whole = out_dir(&format!("{name}_whole"));
+    let a = run(scenario(text), "<test>", &RunOptions { out: whole.clone(), ..Default::default() }).unwrap();
+    assert!(a.completed, "{}", a.summary["message"]);
+
+    // The first part also writes a checkpoint after every step: writing one changes nothing.
+    let parts = out_dir(&format!("{name}_parts"));
+    let every_step = common::with(text, "[analysis]", "[analysis]\ncheckpoint_interval = 1e-9");
+    let b = run(scenario(&every_step), "<test>", &RunOptions { out: parts.clone(), stop: Some(stop_after(at)), ..Default::default() }).unwrap();
+    assert_eq!(b.summary["status"], "interrupted");
+    assert_eq!(b.summary["steps"], at);
+    let mid = checkpoint_of(&parts);
+    assert!(mid.stepper.contacts.as_ref().is_some_and(|c| !c.records.is_empty()), "the checkpoint holds contact points");
+    let again: Checkpoint = serde_json::from_str(&serde_json::to_string(&mid).unwrap()).unwrap();
+    assert_eq!(again, mid, "the state round-trips exactly");
+
+    let c = run(scenario(text), "<test>", &RunOptions { out: parts.clone(), resume: true, ..Default::default() }).unwrap();
+    assert!(c.completed, "{}", c.summary["message"]);
+    assert_eq!(c.summary["resumed_from"]["step"], at);
+    for file in ["history.csv", "diagnostics.csv"] {
+        assert!(read(&whole, file) == read(&parts, file), "{name}: {file} differs after the resume");
+    }
+    assert_eq!(a.summary["final"], c.summary["final"]);
+    let (end_a, end_c) = (checkpoint_of(&whole), checkpoint_of(&parts));
+    assert_eq!(end_a.state, end_c.state);
+    assert_eq!(end_a.stepper, end_c.stepper);
+}
+
+#[test]
+fn dominos_resume_bit_identically() {
+    let text = common::with(&common::example("dominos.toml"), "duration = 5.0", "duration = 0.1");
+    stopped_and_resumed_equals_whole("checkpoint_dominos", &text, 37);
+}
+
+#[test]
+fn incline_from_its_initial_equilibrium_resumes_bit_identically() {
+    let text = common::with(&common::example("incline.toml"), "duration = 1.0", "duration = 0.2");
+    stopped_and_resumed_equals_whole("checkpoint_incline", &text, 23);
+}
+
+#[test]
+fn a_changed_scenario_does_not_resume() {
+    let text = common::with(&common::example("incline.toml"), "duration = 1.0", "duration = 0.05");
+    let dir = out_dir("checkpoint_changed");
+    let _ = run(scenario(&text), "<test>", &RunOptions { out: dir.clone(), ..Default::default() }).unwrap();
+    // A longer duration may change; a friction angle may not.
+    let longer = common::with(&text, "duration = 0.05", "duration = 0.06");
+    assert!(run(scenario(&longer), "<test>", &RunOptions { out: dir.clone(), resume: true, ..Default::default() }).unwrap().completed);
+    let other = common::with(&longer, "friction_angle = 24.0", "friction_angle = 20.0");
+    match run(scenario(&other), "<test>", &RunOptions { out: dir, resume: true, ..Default::default() }) {
+        Err(Error::Scenario { problems, .. }) => assert!(problems[0].reason.contains("joint[0].friction_angle"), "{}", problems[0].reason),
+        other => panic!("expected an input error, got {other:?}"),
+    }
+}
