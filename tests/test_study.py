@@ -232,7 +232,7 @@ def two_wedges() -> nmm3d.Scenario:
                 moved(np.array([0, -1, 0, 2.0]))]}}},
         ]
     data = nmm3d.load(EXAMPLES / "tetrahedral_wedge.toml").to_dict()
-    data.update(body=bodies, monitor=[], study={"kind": "critical_friction", "range": [15.0, 45.0], "tolerance": 0.4,
+    data.update(body=bodies, monitor=[], expect=[], study={"kind": "critical_friction", "range": [15.0, 45.0], "tolerance": 0.4,
                                                 "criterion": {"blocks": "all", "displacement": 0.001, "time": 0.5}})
     return nmm3d.Scenario.from_dict(data)
 

@@ -36,15 +36,8 @@ def plot_history(directory: str | Path, out: str | Path | None = None) -> Path:
         ax.set_title(title, fontsize=10)
         u = unit(cols[0])
         ax.set_ylabel(f"{title.rsplit('.', 1)[1]} [{u}]" if u else title.rsplit(".", 1)[1])
-        ax.grid(True, alpha=0.3)
         ax.legend(fontsize=8, loc="best")
-    axes[-1, 0].set_xlabel("time [s]")
-    fig.suptitle(_run_title(result), fontsize=11)
-    fig.tight_layout()
-    path = Path(out) if out is not None else Path(directory) / "history.png"
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return _finish(fig, axes, result, Path(out) if out is not None else Path(directory) / "history.png")
 
 
 ENERGY_COLUMNS = ("kinetic_energy", "elastic_energy", "external_work", "contact_energy",
@@ -85,12 +78,18 @@ def plot_diagnostics(directory: str | Path, out: str | Path | None = None) -> Pa
         ax.set_ylabel("energy [J]")
         ax.set_title("energy accounts", fontsize=10)
         ax.legend(fontsize=8, loc="best")
+    return _finish(fig, axes, result, Path(out) if out is not None else Path(directory) / "diagnostics.png")
+
+
+def _finish(fig, axes, result: Result, path: Path) -> Path:
+    """Grid, time axis and the run's title on every figure; save and close."""
+    import matplotlib.pyplot as plt
+
     for a in axes[:, 0]:
         a.grid(True, alpha=0.3)
     axes[-1, 0].set_xlabel("time [s]")
     fig.suptitle(_run_title(result), fontsize=11)
     fig.tight_layout()
-    path = Path(out) if out is not None else Path(directory) / "diagnostics.png"
     fig.savefig(path, dpi=120)
     plt.close(fig)
     return path

@@ -68,6 +68,7 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
     let t_start = Instant::now();
     let out = &opts.out;
     let resumed = if opts.resume { Some(checkpoint::read(out, &scenario, label)?) } else { None };
+    let resumed_at = resumed.as_ref().map(|c| (c.state.step, c.state.time));
     let mut saver = Saver::new(out, checkpoint::comparable(&scenario), scenario.analysis.checkpoint_interval);
     let sys = System::build(scenario, label)?;
     let monitors = MonitorPlan::all(&sys, label)?;
@@ -75,7 +76,6 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
     let _ = std::fs::remove_file(out.join("summary.json"));
     tables::write_blocks(&sys, out)?;
     let mut rec = Recorder::new(&sys, monitors, out);
-    let resumed_at = resumed.as_ref().map(|c| (c.state.step, c.state.time));
     let (mut state, mut stepper) = match resumed {
         Some(c) => {
             rec.restore(c.record);
@@ -88,27 +88,16 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
             (state, stepper)
         }
     };
-    let mode = match (opts.progress, std::io::stderr().is_terminal()) {
-        (false, _) => ProgressMode::Off,
-        (true, true) => ProgressMode::Terminal,
-        (true, false) => ProgressMode::Log,
-    };
-    let mut progress = None;
+    let mut progress = Progress::new(progress_mode(opts.progress), &state);
     let started = if resumed_at.is_some() { Ok(()) } else { start(&sys, &mut state, &mut stepper, &mut rec, &mut saver) };
-    let result = started.and_then(|_| {
-        let p = progress.insert(Progress::new(mode, &state));
-        advance(&sys, &mut state, &mut stepper, &mut rec, p, opts.stop.as_ref(), &mut saver)
-    });
-    if let Some(p) = &progress {
-        p.finish();
-    }
+    let result = started.and_then(|_| advance(&sys, &mut state, &mut stepper, &mut rec, &mut progress, opts.stop.as_ref(), &mut saver));
+    progress.finish();
     let (status, message) = match result {
         Ok(End::Completed(m)) => ("completed", m),
         Ok(End::Interrupted(m)) => ("interrupted", m),
         Err(e @ (Error::Diverged { .. } | Error::Solver { .. })) => ("failed", e.to_string()),
         Err(e) => return Err(e),
     };
-    let completed = status == "completed";
     rec.finish(&sys, &state, stepper.contacts())?;
     if status != "failed" {
         saver.save(&state, &stepper, &rec)?;
@@ -124,7 +113,16 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
     }
     let text = serde_json::to_string_pretty(&summary).expect("a JSON value serialises");
     atomic::write(&out.join("summary.json"), text.as_bytes())?;
-    Ok(RunOutcome { summary, completed })
+    Ok(RunOutcome { summary, completed: status == "completed" })
+}
+
+/// Where progress goes: nowhere, a terminal line, or periodic lines in a log.
+fn progress_mode(wanted: bool) -> ProgressMode {
+    match (wanted, std::io::stderr().is_terminal()) {
+        (false, _) => ProgressMode::Off,
+        (true, true) => ProgressMode::Terminal,
+        (true, false) => ProgressMode::Log,
+    }
 }
 
 /// A fresh run's start: initial accelerations, the initial equilibrium if asked for, the first
