@@ -83,10 +83,8 @@ location = "point"
 #[test]
 fn lithostatic_column_is_in_equilibrium_at_the_start() {
     let rho_g = 2500.0 * 10.0;
-    let text = format!(
-        "{BASE}shape = {{ box = {{ min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 4.0] }} }}\n{}",
-        format!(
-            r#"
+    let tail = format!(
+        r#"
 [in_situ_stress]
 stress = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
 gradient = [0.0, 0.0, {rho_g}, 0.0, 0.0, 0.0]
@@ -115,9 +113,9 @@ name = "column"
 select = {{ body = "block" }}
 quantities = ["stress"]
 "#
-        )
-    )
-    .replace("output_interval = 0.0", "output_interval = 0.0\ngravity = [0.0, 0.0, -10.0]");
+    );
+    let text = format!("{BASE}shape = {{ box = {{ min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 4.0] }} }}\n{tail}")
+        .replace("output_interval = 0.0", "output_interval = 0.0\ngravity = [0.0, 0.0, -10.0]");
     let out = run_ok(&text, "in_situ_lithostatic");
     // Elastic settlement without the initial stress would be ρgL²/(2E) = 2e-5 m.
     let uz = final_value(&out, "top.displacement.z");

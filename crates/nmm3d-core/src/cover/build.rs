@@ -127,6 +127,10 @@ fn full_subcell_moments(pattern: &PatternTable) -> [Vec<[f64; TERMS]>; 2] {
     [side(0), side(1)]
 }
 
+/// A part of a block piece in one sub-cell: (cell, sub-cell, the part, its moments, whether
+/// it is the whole sub-cell).
+type Part = ([i32; 3], usize, ConvexPolyhedron, [f64; TERMS], bool);
+
 fn block_elements(
     b: usize,
     block: &Block,
@@ -136,7 +140,7 @@ fn block_elements(
 ) -> Vec<ManifoldElement> {
     let s3 = mesh.size.powi(3);
     // Parts of every piece in every sub-cell: (cell, sub-cell) → [(part, moments, whole)].
-    let mut parts: Vec<([i32; 3], usize, ConvexPolyhedron, [f64; TERMS], bool)> = Vec::new();
+    let mut parts: Vec<Part> = Vec::new();
     for piece in &block.pieces {
         let local = piece.map(|x| mesh.to_local(x));
         let planes: Vec<(Plane, FaceTag)> = local
@@ -206,7 +210,7 @@ fn block_elements(
 }
 
 /// Groups (indices) of the parts in one sub-cell that touch through glue faces.
-fn connected_parts(parts: &[([i32; 3], usize, ConvexPolyhedron, [f64; TERMS], bool)]) -> Vec<Vec<usize>> {
+fn connected_parts(parts: &[Part]) -> Vec<Vec<usize>> {
     if parts.len() == 1 {
         return vec![vec![0]];
     }

@@ -115,7 +115,7 @@ mod tests {
         assert!((pq.eval(&x) - p.eval(&x) * q.eval(&x)).abs() < 1e-14);
         // d(pq)/dη = p' q + p q'
         let d = pq.derivative(1);
-        let expect = -1.0 * q.eval(&x) + p.eval(&x) * 3.0;
+        let expect = -q.eval(&x) + p.eval(&x) * 3.0;
         assert!((d.eval(&x) - expect).abs() < 1e-14);
     }
 }

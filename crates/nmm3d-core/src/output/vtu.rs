@@ -102,7 +102,7 @@ impl Cells {
         s.push_str("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n");
         let _ = writeln!(s, "<UnstructuredGrid>\n<FieldData>{field_data}</FieldData>");
         let _ = writeln!(s, "<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">", self.points.len(), offsets.len());
-        let _ = write!(s, "{point_data}{cell_data}<Points>\n");
+        let _ = writeln!(s, "{point_data}{cell_data}<Points>");
         bin.vec3(&mut s, "Points", &self.points);
         s.push_str("</Points>\n<Cells>\n");
         bin.i32(&mut s, "connectivity", &conn);

@@ -28,7 +28,7 @@ pub fn nested_dissection(p: &SparsityPattern, choice: Ordering) -> Option<Permut
         Ordering::Amd => false,
         Ordering::NestedDissection => nb > 0,
     };
-    if !wanted || p.n % 3 != 0 {
+    if !wanted || !p.n.is_multiple_of(3) {
         return None;
     }
     let (xadj, adjncy) = block_graph(p, nb);
