@@ -94,16 +94,24 @@ pub fn write(out: &Path, c: &Checkpoint) -> Result<()> {
 /// Read `out/checkpoint.json` and check it belongs to `scenario` (`label` names it).
 pub fn read(out: &Path, scenario: &Scenario, label: &str) -> Result<Checkpoint> {
     let path = out.join(FILE);
-    let problem = |reason: String| Error::Scenario { file: label.to_string(), problems: vec![Problem { path: "--resume".into(), reason }] };
+    let problem = |reason: String| Error::Scenario {
+        file: label.to_string(),
+        problems: vec![Problem { path: "--resume".into(), reason }],
+    };
     let text = match std::fs::read(&path) {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
             return Err(problem(format!("there is no {FILE} in {} (a run writes it when it completes or is interrupted, and every analysis.checkpoint_interval seconds)", out.display())));
         }
         r => r.map_err(|e| Error::io(&path, e))?,
     };
-    let c: Checkpoint = serde_json::from_slice(&text).map_err(|e| problem(format!("{} is not a checkpoint of this version: {e}", path.display())))?;
+    let c: Checkpoint = serde_json::from_slice(&text)
+        .map_err(|e| problem(format!("{} is not a checkpoint of this version: {e}", path.display())))?;
     if c.version != VERSION {
-        return Err(problem(format!("{} has format version {}, this nmm3d reads {VERSION}", path.display(), c.version)));
+        return Err(problem(format!(
+            "{} has format version {}, this nmm3d reads {VERSION}",
+            path.display(),
+            c.version
+        )));
     }
     if let Some(key) = first_difference(&c.scenario, &comparable(scenario), String::new()) {
         return Err(problem(format!("the scenario differs from the checkpoint's at '{key}' (only analysis.duration, max_steps and checkpoint_interval may change)")));
@@ -115,13 +123,13 @@ pub fn read(out: &Path, scenario: &Scenario, label: &str) -> Result<Checkpoint> 
 fn first_difference(a: &Value, b: &Value, path: String) -> Option<String> {
     let join = |k: &str| if path.is_empty() { k.to_string() } else { format!("{path}.{k}") };
     match (a, b) {
-        (Value::Object(x), Value::Object(y)) => {
-            x.keys().chain(y.keys()).find_map(|k| match (x.get(k), y.get(k)) {
-                (Some(p), Some(q)) => first_difference(p, q, join(k)),
-                _ => Some(join(k)),
-            })
+        (Value::Object(x), Value::Object(y)) => x.keys().chain(y.keys()).find_map(|k| match (x.get(k), y.get(k)) {
+            (Some(p), Some(q)) => first_difference(p, q, join(k)),
+            _ => Some(join(k)),
+        }),
+        (Value::Array(x), Value::Array(y)) if x.len() == y.len() => {
+            x.iter().zip(y).enumerate().find_map(|(i, (p, q))| first_difference(p, q, format!("{path}[{i}]")))
         }
-        (Value::Array(x), Value::Array(y)) if x.len() == y.len() => x.iter().zip(y).enumerate().find_map(|(i, (p, q))| first_difference(p, q, format!("{path}[{i}]"))),
         _ => (a != b).then_some(if path.is_empty() { "(the whole scenario)".into() } else { path }),
     }
 }

@@ -59,10 +59,7 @@ fn format_problems(file: &str, problems: &[Problem]) -> String {
 impl Error {
     /// A single input problem.
     pub fn input(file: &str, path: impl Into<String>, reason: impl Into<String>) -> Self {
-        Error::Scenario {
-            file: file.to_string(),
-            problems: vec![Problem { path: path.into(), reason: reason.into() }],
-        }
+        Error::Scenario { file: file.to_string(), problems: vec![Problem { path: path.into(), reason: reason.into() }] }
     }
 
     /// CLI exit status: 2 invalid input, 1 the run failed.

@@ -6,8 +6,8 @@
 use nmm3d_geom::{Mat3, Vec3};
 
 use crate::element::kernel::stress_components;
-use crate::error::{Error, Result};
 use crate::element::loads::weights_at;
+use crate::error::{Error, Result};
 use crate::scenario::{MonitorLocation, MonitorSelect, Quantity};
 use crate::state::State;
 use crate::system::System;
@@ -36,22 +36,30 @@ impl MonitorPlan {
         let mut out = Vec::new();
         for m in &sys.scenario.monitor {
             let block = match &m.select {
-                MonitorSelect::Point(p) => sys
-                    .locate(&Vec3::from(*p))
-                    .map(|(b, _)| b)
-                    .ok_or_else(|| Error::input(label, format!("monitor.{}.select.point", m.name), "the point is not inside any block"))?,
+                MonitorSelect::Point(p) => sys.locate(&Vec3::from(*p)).map(|(b, _)| b).ok_or_else(|| {
+                    Error::input(label, format!("monitor.{}.select.point", m.name), "the point is not inside any block")
+                })?,
                 MonitorSelect::Body(name) => {
                     let body = sys.scenario.body.iter().position(|b| &b.name == name).expect("validated");
-                    let blocks: Vec<usize> = (0..sys.geometry.blocks.len()).filter(|&b| sys.geometry.blocks[b].body == body).collect();
+                    let blocks: Vec<usize> =
+                        (0..sys.geometry.blocks.len()).filter(|&b| sys.geometry.blocks[b].body == body).collect();
                     if blocks.len() != 1 {
-                        return Err(Error::input(label, format!("monitor.{}.select.body", m.name), format!("body '{name}' has {} blocks; select a block by point", blocks.len())));
+                        return Err(Error::input(
+                            label,
+                            format!("monitor.{}.select.body", m.name),
+                            format!("body '{name}' has {} blocks; select a block by point", blocks.len()),
+                        ));
                     }
                     blocks[0]
                 }
                 MonitorSelect::Block(id) if *id < sys.geometry.blocks.len() => *id,
                 MonitorSelect::Block(id) => {
                     let n = sys.geometry.blocks.len();
-                    return Err(Error::input(label, format!("monitor.{}.select.block", m.name), format!("there is no block {id} (the model has {n} blocks, ids 0..{n})")));
+                    return Err(Error::input(
+                        label,
+                        format!("monitor.{}.select.block", m.name),
+                        format!("there is no block {id} (the model has {n} blocks, ids 0..{n})"),
+                    ));
                 }
             };
             let mut plan = Self::new(sys, m.name.clone(), block, m.quantities.clone());
@@ -69,7 +77,8 @@ impl MonitorPlan {
     fn new(sys: &System, name: String, block: usize, quantities: Vec<Quantity>) -> Self {
         let vol = sys.geometry.blocks[block].volume;
         let mut w = std::collections::BTreeMap::<usize, (f64, Vec3)>::new();
-        let elements: Vec<usize> = (0..sys.covers.elements.len()).filter(|&e| sys.covers.elements[e].block == block).collect();
+        let elements: Vec<usize> =
+            (0..sys.covers.elements.len()).filter(|&e| sys.covers.elements[e].block == block).collect();
         for &e in &elements {
             let k = sys.kernel(e);
             for (a, &c) in sys.covers.elements[e].covers.iter().enumerate() {
@@ -126,7 +135,8 @@ impl MonitorPlan {
 
     fn stress(&self, sys: &System, state: &State) -> [f64; 6] {
         let vol = sys.geometry.blocks[self.block].volume;
-        let s: Mat3 = self.elements.iter().map(|&e| corotation::element_stress(sys, state, e) * sys.kernel(e).volume / vol).sum();
+        let s: Mat3 =
+            self.elements.iter().map(|&e| corotation::element_stress(sys, state, e) * sys.kernel(e).volume / vol).sum();
         stress_components(&s)
     }
 }
@@ -136,6 +146,7 @@ impl MonitorPlan {
 pub fn current_volume(sys: &System, state: &State, e: usize) -> f64 {
     let me = &sys.covers.elements[e];
     let w = sys.covers.weights(me);
-    let place = |xi: &Vec3| -> Vec3 { me.covers.iter().zip(w).map(|(&c, wa)| wa.eval(xi) * state.position(sys, c)).sum() };
+    let place =
+        |xi: &Vec3| -> Vec3 { me.covers.iter().zip(w).map(|(&c, wa)| wa.eval(xi) * state.position(sys, c)).sum() };
     me.parts.iter().map(|p| p.map(place).volume()).sum()
 }

@@ -89,8 +89,10 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
         }
     };
     let mut progress = Progress::new(progress_mode(opts.progress), &state);
-    let started = if resumed_at.is_some() { Ok(()) } else { start(&sys, &mut state, &mut stepper, &mut rec, &mut saver) };
-    let result = started.and_then(|_| advance(&sys, &mut state, &mut stepper, &mut rec, &mut progress, opts.stop.as_ref(), &mut saver));
+    let started =
+        if resumed_at.is_some() { Ok(()) } else { start(&sys, &mut state, &mut stepper, &mut rec, &mut saver) };
+    let result = started
+        .and_then(|_| advance(&sys, &mut state, &mut stepper, &mut rec, &mut progress, opts.stop.as_ref(), &mut saver));
     progress.finish();
     let (status, message) = match result {
         Ok(End::Completed(m)) => ("completed", m),
@@ -105,7 +107,8 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
     let mut summary = summary(&sys, &state, &stepper, &rec, status, &message, t_start.elapsed().as_secs_f64());
     if let Some(map) = summary.as_object_mut() {
         if let Some((steps, unbalanced)) = saver.initial_equilibrium {
-            let _ = map.insert("initial_equilibrium".into(), json!({"steps": steps, "unbalanced_force_ratio": unbalanced}));
+            let _ =
+                map.insert("initial_equilibrium".into(), json!({"steps": steps, "unbalanced_force_ratio": unbalanced}));
         }
         if let Some((step, time)) = resumed_at {
             let _ = map.insert("resumed_from".into(), json!({"step": step, "time": time}));
@@ -168,14 +171,25 @@ impl Saver {
 }
 
 /// Step until the end or a stop request.
-fn advance(sys: &System, state: &mut State, stepper: &mut Stepper, rec: &mut Recorder, progress: &mut Progress, stop: Option<&StopRequest>, saver: &mut Saver) -> Result<End> {
+fn advance(
+    sys: &System,
+    state: &mut State,
+    stepper: &mut Stepper,
+    rec: &mut Recorder,
+    progress: &mut Progress,
+    stop: Option<&StopRequest>,
+    saver: &mut Saver,
+) -> Result<End> {
     let a = &sys.scenario.analysis;
     let end = a.duration;
     loop {
         if state.time >= end * (1.0 - 1e-12) {
             return Ok(End::Completed(match a.kind {
                 AnalysisKind::Dynamic => format!("reached t = {end} s"),
-                AnalysisKind::Static => format!("reached the duration t = {end} s before equilibrium (unbalanced force ratio {:.3e})", rec.last_unbalanced),
+                AnalysisKind::Static => format!(
+                    "reached the duration t = {end} s before equilibrium (unbalanced force ratio {:.3e})",
+                    rec.last_unbalanced
+                ),
             }));
         }
         if state.step >= a.max_steps {
@@ -190,18 +204,28 @@ fn advance(sys: &System, state: &mut State, stepper: &mut Stepper, rec: &mut Rec
         rec.open_close += report.open_close as u64;
         rec.diagnostics.push((state.time, state.step, report));
         if state.u.iter().any(|x| !x.iter().all(|c| c.is_finite())) {
-            return Err(Error::Diverged { step: state.step, time: state.time, reason: "a displacement is not finite".into() });
+            return Err(Error::Diverged {
+                step: state.step,
+                time: state.time,
+                reason: "a displacement is not finite".into(),
+            });
         }
         rec.record(sys, state, stepper.contacts(), false)?;
         progress.step(a, state, &report);
         if a.kind == AnalysisKind::Static && state.step > 1 && report.unbalanced <= a.equilibrium_tolerance {
-            return Ok(End::Completed(format!("equilibrium reached (unbalanced force ratio {:.3e})", report.unbalanced)));
+            return Ok(End::Completed(format!(
+                "equilibrium reached (unbalanced force ratio {:.3e})",
+                report.unbalanced
+            )));
         }
         if saver.due() {
             saver.save(state, stepper, rec)?;
         }
         if stop.is_some_and(|s| (s.0)()) {
-            return Ok(End::Interrupted(format!("interrupted at step {} (t = {} s); the outputs are valid up to this step", state.step, state.time)));
+            return Ok(End::Interrupted(format!(
+                "interrupted at step {} (t = {} s); the outputs are valid up to this step",
+                state.step, state.time
+            )));
         }
     }
 }
@@ -265,7 +289,8 @@ impl Recorder {
         if first || (a.output_interval > 0.0 && state.time + eps >= self.next_frame) {
             self.frame(sys, state, contacts)?;
             if a.output_interval > 0.0 {
-                self.next_frame = (state.time / a.output_interval + 1e-9).floor() * a.output_interval + a.output_interval;
+                self.next_frame =
+                    (state.time / a.output_interval + 1e-9).floor() * a.output_interval + a.output_interval;
             }
         } else if self.last_history_write.elapsed().as_secs_f64() > HISTORY_FLUSH_SECONDS {
             self.history.write(&self.out)?;
@@ -342,7 +367,15 @@ impl Recorder {
     }
 }
 
-fn summary(sys: &System, state: &State, stepper: &Stepper, rec: &Recorder, status: &str, message: &str, wall: f64) -> Value {
+fn summary(
+    sys: &System,
+    state: &State,
+    stepper: &Stepper,
+    rec: &Recorder,
+    status: &str,
+    message: &str,
+    wall: f64,
+) -> Value {
     let mut timings = Map::new();
     for (k, v) in &sys.timings {
         let _ = timings.insert(k.clone(), json!(v));
@@ -395,7 +428,10 @@ fn energy_summary(end: Option<&crate::time::Energy>, rows: &[(f64, u64, crate::t
     // Relative to the largest account of the whole run: early steps, with little energy yet,
     // would otherwise make round-off look large.
     let scale = rows.iter().map(|(_, _, r)| r.energy.largest()).fold(0.0, f64::max);
-    let worst = rows.iter().map(|(t, _, r)| (r.energy.error().abs() / scale.max(f64::MIN_POSITIVE), *t)).fold((0.0, 0.0), |m, x| if x.0 > m.0 { x } else { m });
+    let worst = rows
+        .iter()
+        .map(|(t, _, r)| (r.energy.error().abs() / scale.max(f64::MIN_POSITIVE), *t))
+        .fold((0.0, 0.0), |m, x| if x.0 > m.0 { x } else { m });
     let warning = (worst.0 > ENERGY_ERROR_BOUND).then(|| {
         format!("the energy balance error reached {:.1} % of the largest energy account at t = {:.6} s (bound {:.0} %): look for impacts in diagnostics.csv", 100.0 * worst.0, worst.1, 100.0 * ENERGY_ERROR_BOUND)
     });

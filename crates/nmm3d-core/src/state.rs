@@ -36,7 +36,11 @@ impl State {
             .iter()
             .map(|c| {
                 let b = &sys.geometry.blocks[c.block];
-                if dynamic && !b.fixed { b.initial_velocity_at(&c.position) } else { Vec3::zeros() }
+                if dynamic && !b.fixed {
+                    b.initial_velocity_at(&c.position)
+                } else {
+                    Vec3::zeros()
+                }
             })
             .collect();
         Self {

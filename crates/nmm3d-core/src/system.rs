@@ -147,7 +147,9 @@ impl System {
         }
         for (i, pl) in self.scenario.point_load.clone().iter().enumerate() {
             let x = Vec3::from(pl.point);
-            let (_, e) = self.locate(&x).ok_or_else(|| Error::input(label, format!("point_load[{i}].point"), "the point is not inside any block"))?;
+            let (_, e) = self.locate(&x).ok_or_else(|| {
+                Error::input(label, format!("point_load[{i}].point"), "the point is not inside any block")
+            })?;
             let w = loads::weights_at(&self.covers, &self.covers.elements[e], &x);
             for (a, &c) in self.covers.elements[e].covers.iter().enumerate() {
                 self.external[c] += w[a] * Vec3::from(pl.force);
@@ -156,7 +158,9 @@ impl System {
         for (i, sl) in self.scenario.surface_load.clone().iter().enumerate() {
             let mut hit = false;
             for me in &self.covers.elements {
-                if let Some(ints) = loads::boundary_face_integrals(&self.covers, me, &sl.select, sl.normal.map(Vec3::from)) {
+                if let Some(ints) =
+                    loads::boundary_face_integrals(&self.covers, me, &sl.select, sl.normal.map(Vec3::from))
+                {
                     hit = true;
                     for (a, &c) in me.covers.iter().enumerate() {
                         self.external[c] += ints[a] * Vec3::from(sl.traction);
@@ -164,7 +168,11 @@ impl System {
                 }
             }
             if !hit {
-                return Err(Error::input(label, format!("surface_load[{i}].select"), "no block boundary face lies in the region (facing `normal`, if given)"));
+                return Err(Error::input(
+                    label,
+                    format!("surface_load[{i}].select"),
+                    "no block boundary face lies in the region (facing `normal`, if given)",
+                ));
             }
         }
         Ok(())
@@ -175,7 +183,11 @@ impl System {
         for (i, c) in self.scenario.constraint.clone().iter().enumerate() {
             let pts = penalty::boundary_vertices_in(&self.covers, &c.select, weld);
             if pts.is_empty() {
-                return Err(Error::input(label, format!("constraint[{i}].select"), "no block boundary vertex lies in the region"));
+                return Err(Error::input(
+                    label,
+                    format!("constraint[{i}].select"),
+                    "no block boundary vertex lies in the region",
+                ));
             }
             for (e, x) in pts {
                 self.constraints.push(penalty::point_constraint(&self.covers, e, x, &c.directions));
@@ -183,7 +195,9 @@ impl System {
         }
         for (i, f) in self.scenario.fixed_point.clone().iter().enumerate() {
             let x = Vec3::from(f.point);
-            let (_, e) = self.locate(&x).ok_or_else(|| Error::input(label, format!("fixed_point[{i}].point"), "the point is not inside any block"))?;
+            let (_, e) = self.locate(&x).ok_or_else(|| {
+                Error::input(label, format!("fixed_point[{i}].point"), "the point is not inside any block")
+            })?;
             self.constraints.push(penalty::point_constraint(&self.covers, e, x, &f.directions));
         }
         Ok(())
@@ -192,7 +206,12 @@ impl System {
 
 /// The sparsity pattern of the MEs' cover cliques, its scatter maps, and the consistent mass
 /// assembled on it.
-pub fn pattern_and_mass(covers: &Covers, dofs: &DofMap, kernels: &[ElementKernel], kernel_of: &[usize]) -> (Assembler, Vec<f64>) {
+pub fn pattern_and_mass(
+    covers: &Covers,
+    dofs: &DofMap,
+    kernels: &[ElementKernel],
+    kernel_of: &[usize],
+) -> (Assembler, Vec<f64>) {
     let cliques: Vec<&[usize]> = covers.elements.iter().map(|e| e.covers.as_slice()).collect();
     let masters: Vec<Vec<usize>> = cliques.iter().map(|c| masters_of(dofs, c).0).collect();
     let pattern = SparsityPattern::from_cliques(dofs, masters.iter().map(|c| c.as_slice()));

@@ -34,15 +34,24 @@ fn stopped_and_resumed_equals_whole(name: &str, text: &str, at: u64) {
     // The first part also writes a checkpoint after every step: writing one changes nothing.
     let parts = out_dir(&format!("{name}_parts"));
     let every_step = common::with(text, "[analysis]", "[analysis]\ncheckpoint_interval = 1e-9");
-    let b = run(scenario(&every_step), "<test>", &RunOptions { out: parts.clone(), stop: Some(stop_after(at)), ..Default::default() }).unwrap();
+    let b = run(
+        scenario(&every_step),
+        "<test>",
+        &RunOptions { out: parts.clone(), stop: Some(stop_after(at)), ..Default::default() },
+    )
+    .unwrap();
     assert_eq!(b.summary["status"], "interrupted");
     assert_eq!(b.summary["steps"], at);
     let mid = checkpoint_of(&parts);
-    assert!(mid.stepper.contacts.as_ref().is_some_and(|c| !c.records.is_empty()), "the checkpoint holds contact points");
+    assert!(
+        mid.stepper.contacts.as_ref().is_some_and(|c| !c.records.is_empty()),
+        "the checkpoint holds contact points"
+    );
     let again: Checkpoint = serde_json::from_str(&serde_json::to_string(&mid).unwrap()).unwrap();
     assert_eq!(again, mid, "the state round-trips exactly");
 
-    let c = run(scenario(text), "<test>", &RunOptions { out: parts.clone(), resume: true, ..Default::default() }).unwrap();
+    let c =
+        run(scenario(text), "<test>", &RunOptions { out: parts.clone(), resume: true, ..Default::default() }).unwrap();
     assert!(c.completed, "{}", c.summary["message"]);
     assert_eq!(c.summary["resumed_from"]["step"], at);
     for file in ["history.csv", "diagnostics.csv"] {
@@ -73,10 +82,16 @@ fn a_changed_scenario_does_not_resume() {
     let _ = run(scenario(&text), "<test>", &RunOptions { out: dir.clone(), ..Default::default() }).unwrap();
     // A longer duration may change; a friction angle may not.
     let longer = common::with(&text, "duration = 0.05", "duration = 0.06");
-    assert!(run(scenario(&longer), "<test>", &RunOptions { out: dir.clone(), resume: true, ..Default::default() }).unwrap().completed);
+    assert!(
+        run(scenario(&longer), "<test>", &RunOptions { out: dir.clone(), resume: true, ..Default::default() })
+            .unwrap()
+            .completed
+    );
     let other = common::with(&longer, "friction_angle = 24.0", "friction_angle = 20.0");
     match run(scenario(&other), "<test>", &RunOptions { out: dir, resume: true, ..Default::default() }) {
-        Err(Error::Scenario { problems, .. }) => assert!(problems[0].reason.contains("joint[0].friction_angle"), "{}", problems[0].reason),
+        Err(Error::Scenario { problems, .. }) => {
+            assert!(problems[0].reason.contains("joint[0].friction_angle"), "{}", problems[0].reason)
+        }
         other => panic!("expected an input error, got {other:?}"),
     }
 }

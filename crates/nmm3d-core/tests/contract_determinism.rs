@@ -44,7 +44,9 @@ quantities = ["displacement", "velocity", "rotation", "volume", "stress"]
 fn run_with_threads(threads: usize) -> (Vec<u8>, Vec<u8>) {
     let dir = out_dir(&format!("determinism_{threads}"));
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-    pool.install(|| run(scenario(TEXT), "<test>", &RunOptions { out: dir.clone(), progress: false, ..Default::default() }).unwrap());
+    pool.install(|| {
+        run(scenario(TEXT), "<test>", &RunOptions { out: dir.clone(), progress: false, ..Default::default() }).unwrap()
+    });
     let read = |p: &str| std::fs::read(dir.join(p)).unwrap();
     (read("history.csv"), read("frames/blocks_00002.vtu"))
 }
@@ -62,7 +64,9 @@ fn contact_run_with_threads(threads: usize) -> (Vec<u8>, Vec<u8>) {
     let dir = out_dir(&format!("determinism_contact_{threads}"));
     let text = common::with(&common::example("dominos.toml"), "duration = 5.0", "duration = 0.1");
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-    pool.install(|| run(scenario(&text), "<test>", &RunOptions { out: dir.clone(), progress: false, ..Default::default() }).unwrap());
+    pool.install(|| {
+        run(scenario(&text), "<test>", &RunOptions { out: dir.clone(), progress: false, ..Default::default() }).unwrap()
+    });
     let read = |p: &str| std::fs::read(dir.join(p)).unwrap();
     (read("history.csv"), read("frames/contacts_00001.vtu"))
 }

@@ -31,7 +31,12 @@ fn random_convex(rng: &mut Lcg) -> ConvexPolyhedron {
 
 fn geometry(pieces: Vec<ConvexPolyhedron>) -> Geometry {
     let mat = Elastic::new(&Material { name: "r".into(), density: 2500.0, young: 1e9, poisson: 0.25 });
-    Geometry { blocks: pieces.into_iter().map(|p| Block::new(0, 0, false, vec![p])).collect(), materials: vec![mat], features: Vec::new(), report: Default::default() }
+    Geometry {
+        blocks: pieces.into_iter().map(|p| Block::new(0, 0, false, vec![p])).collect(),
+        materials: vec![mat],
+        features: Vec::new(),
+        report: Default::default(),
+    }
 }
 
 fn random_mesh(rng: &mut Lcg) -> MathMesh {
@@ -59,7 +64,11 @@ fn manifold_element_volumes_sum_to_the_block_volume() {
 fn an_aligned_box_is_covered_exactly() {
     let b = ConvexPolyhedron::from_box(Vec3::zeros(), Vec3::new(2.0, 1.0, 1.0));
     for kind in PATTERNS {
-        let covers = Covers::build(&geometry(vec![b.clone()]), MathMesh::new(0.5, Vec3::zeros(), [0.0; 3]), PatternTable::new(kind));
+        let covers = Covers::build(
+            &geometry(vec![b.clone()]),
+            MathMesh::new(0.5, Vec3::zeros(), [0.0; 3]),
+            PatternTable::new(kind),
+        );
         let sum: f64 = covers.elements.iter().map(|e| e.volume).sum();
         assert!((sum - 2.0).abs() < 1e-13);
         for e in &covers.elements {
@@ -69,9 +78,14 @@ fn an_aligned_box_is_covered_exactly() {
         // Cells with faces on the box's surface are taken whole without clipping; their faces
         // there must still be block boundary (contact, tractions), and only there.
         let h2 = 0.25; // cell-local areas × size²
-        let boundary: f64 = covers.elements.iter().flat_map(|e| e.boundary_faces()).map(|f| f.area_vector().norm() * h2).sum();
+        let boundary: f64 =
+            covers.elements.iter().flat_map(|e| e.boundary_faces()).map(|f| f.area_vector().norm() * h2).sum();
         assert!((boundary - 10.0).abs() < 1e-12, "{kind:?}: boundary area {boundary} vs 10");
-        let nodes = if kind == PatternKind::Tet24 { 5 * 3 * 3 + 4 * 2 * 2 + (5 * 2 * 2 + 4 * 3 * 2 + 4 * 2 * 3) } else { 5 * 3 * 3 };
+        let nodes = if kind == PatternKind::Tet24 {
+            5 * 3 * 3 + 4 * 2 * 2 + (5 * 2 * 2 + 4 * 3 * 2 + 4 * 2 * 3)
+        } else {
+            5 * 3 * 3
+        };
         assert_eq!(covers.covers.len(), nodes, "{kind:?}");
     }
 }
@@ -109,7 +123,11 @@ fn weights_are_a_partition_of_unity_and_reproduce_linear_fields() {
 fn separate_blocks_get_separate_physical_covers() {
     let a = ConvexPolyhedron::from_box(Vec3::zeros(), Vec3::new(1.0, 1.0, 1.0));
     let b = ConvexPolyhedron::from_box(Vec3::new(1.0, 0.0, 0.0), Vec3::new(2.0, 1.0, 1.0));
-    let covers = Covers::build(&geometry(vec![a, b]), MathMesh::new(0.5, Vec3::zeros(), [0.0; 3]), PatternTable::new(PatternKind::Tet6));
+    let covers = Covers::build(
+        &geometry(vec![a, b]),
+        MathMesh::new(0.5, Vec3::zeros(), [0.0; 3]),
+        PatternTable::new(PatternKind::Tet6),
+    );
     // Each block has 3 × 3 × 3 nodes; the shared plane x = 1 is duplicated, not merged.
     assert_eq!(covers.covers.len(), 54);
     for e in &covers.elements {

@@ -89,8 +89,13 @@ origin = [0.0, 0.0, 1.0]
     let c: Vec<[i64; 3]> = g.blocks.iter().map(|b| [q(b.centroid.x), q(b.centroid.y), q(b.centroid.z)]).collect();
     assert!(c.windows(2).all(|w| w[0] <= w[1]));
     // Joint faces remember their feature.
-    let features: std::collections::BTreeSet<usize> =
-        g.blocks.iter().flat_map(|b| b.pieces.iter()).flat_map(|p| p.faces.iter()).filter_map(|f| tags::joint_feature(f.tag)).collect();
+    let features: std::collections::BTreeSet<usize> = g
+        .blocks
+        .iter()
+        .flat_map(|b| b.pieces.iter())
+        .flat_map(|p| p.faces.iter())
+        .filter_map(|f| tags::joint_feature(f.tag))
+        .collect();
     assert_eq!(features.into_iter().collect::<Vec<_>>(), vec![0, 1, 2]);
 }
 
@@ -104,7 +109,10 @@ fn random_body(rng: &mut Lcg) -> String {
         let _ = i;
         planes.push(format!("{s},3.5]"));
     }
-    format!("[[body]]\nname = \"b\"\nmaterial = \"rock\"\nshape = {{ convex = {{ planes = [{}] }} }}\n", planes.join(", "))
+    format!(
+        "[[body]]\nname = \"b\"\nmaterial = \"rock\"\nshape = {{ convex = {{ planes = [{}] }} }}\n",
+        planes.join(", ")
+    )
 }
 
 fn random_sets(rng: &mut Lcg, n: usize) -> String {
@@ -124,7 +132,11 @@ fn random_sets(rng: &mut Lcg, n: usize) -> String {
 }
 
 fn check_blocks(g: &Geometry, expected_volume: f64, label: &str) {
-    assert!((total_volume(g) - expected_volume).abs() < 1e-10 * expected_volume, "{label}: volume {} vs {expected_volume}", total_volume(g));
+    assert!(
+        (total_volume(g) - expected_volume).abs() < 1e-10 * expected_volume,
+        "{label}: volume {} vs {expected_volume}",
+        total_volume(g)
+    );
     for (i, b) in g.blocks.iter().enumerate() {
         let closure: Vec3 = b.pieces.iter().flat_map(|p| p.faces.iter()).map(|f| f.area_vector()).sum();
         assert!(closure.norm() < 1e-9, "{label}: block {i} is not closed ({closure})");
@@ -164,7 +176,10 @@ fn degenerate_planes_change_nothing() {
         ("through a vertex", "[[joint_plane]]\npoint = [0.0, 0.0, 0.0]\nnormal = [1.0, 1.0, 1.0]\n"),
         ("coplanar with a face", "[[joint_plane]]\npoint = [0.0, 0.0, 4.0]\ndip = 0.0\ndip_direction = 0.0\n"),
         ("repeated", diagonal),
-        ("a hair off the face", "[[joint_plane]]\npoint = [0.0, 0.0, 4.0000000000001]\ndip = 0.0\ndip_direction = 0.0\n"),
+        (
+            "a hair off the face",
+            "[[joint_plane]]\npoint = [0.0, 0.0, 4.0000000000001]\ndip = 0.0\ndip_direction = 0.0\n",
+        ),
     ] {
         let g = geometry(&format!("{body}{diagonal}{extra}"));
         assert_eq!(g.blocks.len(), 2, "{label}");
@@ -200,7 +215,11 @@ fn tunnels_remove_their_profile_area_times_length() {
     ] {
         let (g, area) = tunnel_case(profile, "");
         let excavated = area * 20.0;
-        assert!((g.report.excavated_volume - excavated).abs() < 1e-9 * excavated, "{profile}: {} vs {excavated}", g.report.excavated_volume);
+        assert!(
+            (g.report.excavated_volume - excavated).abs() < 1e-9 * excavated,
+            "{profile}: {} vs {excavated}",
+            g.report.excavated_volume
+        );
         assert_eq!(g.blocks.len(), 1, "{profile}: the ring around the tunnel stays one block");
         check_blocks(&g, 8000.0 - excavated, profile);
         let (split, _) = tunnel_case(profile, "[[joint_plane]]\npoint = [0.0, 0.0, 0.0]\nnormal = [1.0, 0.0, 0.0]\n");
@@ -214,7 +233,11 @@ fn tunnels_remove_their_profile_area_times_length() {
 fn covers_of_a_non_convex_block_keep_its_volume() {
     let (g, _) = tunnel_case("profile = \"horseshoe\", width = 4.0, height = 4.5", "");
     for kind in [PatternKind::Tet6, PatternKind::Hex8] {
-        let covers = Covers::build(&g, MathMesh::new(1.3, Vec3::new(0.1, 0.2, 0.3), [10.0, 20.0, 30.0]), PatternTable::new(kind));
+        let covers = Covers::build(
+            &g,
+            MathMesh::new(1.3, Vec3::new(0.1, 0.2, 0.3), [10.0, 20.0, 30.0]),
+            PatternTable::new(kind),
+        );
         let sum: f64 = covers.elements.iter().map(|e| e.volume).sum();
         let v = g.blocks[0].volume;
         assert!(((sum - v) / v).abs() < 1e-12, "{kind:?}: {sum} vs {v}");

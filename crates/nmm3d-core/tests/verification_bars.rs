@@ -41,7 +41,8 @@ fn end_loaded_bar_patch_test_every_pattern() {
                     assert!(c.abs() < 1e-6 * 1e6, "{pattern} {rotation}: ME {e} stress {s:?}");
                 }
             }
-            let stretch = displacement_at(&sys, &state, Vec3::new(10.0, 0.5, 0.5)).x - displacement_at(&sys, &state, Vec3::new(0.0, 0.5, 0.5)).x;
+            let stretch = displacement_at(&sys, &state, Vec3::new(10.0, 0.5, 0.5)).x
+                - displacement_at(&sys, &state, Vec3::new(0.0, 0.5, 0.5)).x;
             let exact = 1e6 * 10.0 / E;
             assert!((stretch - exact).abs() < 1e-6 * exact, "{pattern} {rotation}: {stretch} vs {exact}");
         }

@@ -21,7 +21,9 @@ const REFERENCE_TIP: f64 = 0.04009;
 fn tip_deflection(pattern: &str, size: f64) -> f64 {
     let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/cantilever.toml")).unwrap();
     assert!(text.contains("pattern = \"hex8\"\nsize = 0.125"), "the example's cover changed: update this test");
-    let text = text.replace("pattern = \"hex8\"", &format!("pattern = \"{pattern}\"")).replace("size = 0.125", &format!("size = {size}"));
+    let text = text
+        .replace("pattern = \"hex8\"", &format!("pattern = \"{pattern}\""))
+        .replace("size = 0.125", &format!("size = {size}"));
     let out = run_ok(&text, &format!("cantilever_{pattern}_{size}"));
     -final_value(&out, "tip.displacement.z")
 }

@@ -407,7 +407,10 @@ shape = { box = { min = [0.9, 0.0, 0.0], max = [1.9, 1.0, 1.0] } }
     match Stepper::new(&sys, &state, "case.toml") {
         Err(e @ Error::Scenario { .. }) => {
             let m = e.to_string();
-            assert!(m.contains("case.toml") && m.contains("'left'") && m.contains("'right'") && m.contains("overlaps"), "{m}");
+            assert!(
+                m.contains("case.toml") && m.contains("'left'") && m.contains("'right'") && m.contains("overlaps"),
+                "{m}"
+            );
             assert_eq!(e.exit_code(), 2);
         }
         Err(e) => panic!("wrong error: {e}"),
@@ -420,9 +423,13 @@ fn a_soft_penalty_is_raised_until_the_overlap_is_allowed() {
     // The drop test with a hundredth of its stiffness would overlap by 2.2 cm (4.5 % of the
     // 0.5 m cover): the penalty must be raised until the overlap stays below 1 %.
     let mut text = common::example("drop_test.toml");
-    for (old, new) in [("normal_stiffness = 2.5e8", "normal_stiffness = 2.5e6"), ("shear_stiffness = 2.5e8", "shear_stiffness = 2.5e6"),
-                       ("dt = 1.0e-5", "dt = 0.002"), ("duration = 0.0062", "duration = 0.05"),
-                       ("max_penetration_ratio = 0.05", "max_penetration_ratio = 0.01")] {
+    for (old, new) in [
+        ("normal_stiffness = 2.5e8", "normal_stiffness = 2.5e6"),
+        ("shear_stiffness = 2.5e8", "shear_stiffness = 2.5e6"),
+        ("dt = 1.0e-5", "dt = 0.002"),
+        ("duration = 0.0062", "duration = 0.05"),
+        ("max_penetration_ratio = 0.05", "max_penetration_ratio = 0.01"),
+    ] {
         text = common::with(&text, old, new);
     }
     let out = run_ok(&text, "soft_penalty");
@@ -439,9 +446,13 @@ fn dda_scheme_restitution_matches_the_table() {
     let omega = (1e9f64 / 2500.0).sqrt();
     for (wdt, table) in [(0.05, 0.962), (0.1, 0.925), (0.2, 0.855), (0.5, 0.684)] {
         let mut text = common::example("drop_test.toml");
-        for (old, new) in [("dt = 1.0e-5", format!("dt = {}", wdt / omega)), ("integrator = \"newmark\"", "integrator = \"dda\"".into()),
-                           ("gravity = [0.0, 0.0, -10.0]", "gravity = [0.0, 0.0, 0.0]".into()), ("duration = 0.0062", "duration = 0.012".into()),
-                           ("max_displacement_ratio = 0.05", "max_displacement_ratio = 1.0".into())] {
+        for (old, new) in [
+            ("dt = 1.0e-5", format!("dt = {}", wdt / omega)),
+            ("integrator = \"newmark\"", "integrator = \"dda\"".into()),
+            ("gravity = [0.0, 0.0, -10.0]", "gravity = [0.0, 0.0, 0.0]".into()),
+            ("duration = 0.0062", "duration = 0.012".into()),
+            ("max_displacement_ratio = 0.05", "max_displacement_ratio = 1.0".into()),
+        ] {
             text = common::with(&text, old, &new);
         }
         let name = format!("restitution_{wdt}");
@@ -457,9 +468,18 @@ fn an_open_close_iteration_that_cannot_settle_fails_the_run_with_its_reason() {
     // One iteration allowed and no step cuts possible: the cube's points must go from stick to
     // slide in the first step, which needs a second iteration.
     let mut text = common::example("incline.toml");
-    text = common::with(&text, "initial_equilibrium = true", "initial_equilibrium = true\nmax_open_close = 1\nmin_dt_ratio = 1.0");
+    text = common::with(
+        &text,
+        "initial_equilibrium = true",
+        "initial_equilibrium = true\nmax_open_close = 1\nmin_dt_ratio = 1.0",
+    );
     let dir = common::out_dir("unsettled");
-    let out = nmm3d_core::simulation::run(scenario(&text), "<test>", &nmm3d_core::simulation::RunOptions { out: dir.clone(), progress: false, ..Default::default() }).unwrap();
+    let out = nmm3d_core::simulation::run(
+        scenario(&text),
+        "<test>",
+        &nmm3d_core::simulation::RunOptions { out: dir.clone(), progress: false, ..Default::default() },
+    )
+    .unwrap();
     assert!(!out.completed);
     let message = out.summary["message"].as_str().unwrap();
     assert!(message.contains("open–close iteration did not settle"), "{message}");
@@ -491,7 +511,11 @@ shape = {{ box = {{ min = [{gap}, -0.5, 0.0], max = [{}, 0.5, 1.0] }} }}
 "#,
         gap + 1.0
     );
-    let text = cube_case("duration = 1.0\ndt = 0.001\nmax_steps = 20\ngravity = [0.0, 0.0, -10.0]", "friction_angle = 30.0", &bodies);
+    let text = cube_case(
+        "duration = 1.0\ndt = 0.001\nmax_steps = 20\ngravity = [0.0, 0.0, -10.0]",
+        "friction_angle = 30.0",
+        &bodies,
+    );
     run_ok(&text, name)
 }
 
@@ -507,5 +531,8 @@ fn open_contacts_add_no_fill_to_the_system_matrix() {
     let points = |o: &RunOutcome| o.summary["max_contact_points"].as_u64().unwrap();
     assert!(points(&near) > points(&far), "the near sides are detected: {} vs {}", points(&near), points(&far));
     assert_eq!(near.summary["factor_nonzeros"], far.summary["factor_nonzeros"]);
-    assert_eq!(near.summary["pattern_rebuilds"], far.summary["pattern_rebuilds"], "the pattern grew for the base contacts only");
+    assert_eq!(
+        near.summary["pattern_rebuilds"], far.summary["pattern_rebuilds"],
+        "the pattern grew for the base contacts only"
+    );
 }

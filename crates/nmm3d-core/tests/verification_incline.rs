@@ -86,7 +86,11 @@ fn check(phi: f64, dd: f64) {
         let ddr = dd.to_radians();
         let s = [a.cos() * ddr.sin(), a.cos() * ddr.cos(), -a.sin()];
         let cos = (u[0] * s[0] + u[1] * s[1] + u[2] * s[2]) / d;
-        assert!(cos.clamp(-1.0, 1.0).acos().to_degrees() < 0.5, "φ = {phi}: direction off by {} deg", cos.acos().to_degrees());
+        assert!(
+            cos.clamp(-1.0, 1.0).acos().to_degrees() < 0.5,
+            "φ = {phi}: direction off by {} deg",
+            cos.acos().to_degrees()
+        );
     }
 }
 

@@ -17,7 +17,11 @@ const KN: f64 = 1.0e8;
 
 fn cube_on_joint(size: f64, pattern: &str, name: &str) -> f64 {
     let mut text = common::example("block_on_joint.toml");
-    for (old, new) in [("gravity = [1.0, 0.0, -10.0]", "gravity = [0.0, 0.0, -10.0]".to_string()), ("pattern = \"hex8\"", format!("pattern = \"{pattern}\"")), ("size = 0.5", format!("size = {size}"))] {
+    for (old, new) in [
+        ("gravity = [1.0, 0.0, -10.0]", "gravity = [0.0, 0.0, -10.0]".to_string()),
+        ("pattern = \"hex8\"", format!("pattern = \"{pattern}\"")),
+        ("size = 0.5", format!("size = {size}")),
+    ] {
         text = common::with(&text, old, &new);
     }
     let out = run_ok(&text, name);
@@ -29,6 +33,9 @@ fn a_block_closes_its_joint_by_the_stress_over_the_joint_stiffness_however_the_p
     let closure = 25_000.0 / KN;
     for (size, pattern) in [(0.5, "tet6"), (0.25, "tet6"), (0.5, "hex8")] {
         let settled = cube_on_joint(size, pattern, &format!("joint_stiffness_{pattern}_{size}"));
-        assert!((settled - closure).abs() < 0.002 * closure, "{pattern} cover {size} m: closed {settled} m, W/(k_n A) = {closure} m");
+        assert!(
+            (settled - closure).abs() < 0.002 * closure,
+            "{pattern} cover {size} m: closed {settled} m, W/(k_n A) = {closure} m"
+        );
     }
 }

@@ -12,7 +12,8 @@ mod common;
 use common::run_ok;
 
 fn bar(integrator: &str) -> String {
-    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/hanging_bar.toml")).unwrap();
+    let text =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/hanging_bar.toml")).unwrap();
     text.replace("kind = \"static\"", &format!("kind = \"dynamic\"\nintegrator = \"{integrator}\""))
         .replace("duration = 1000.0", "duration = 0.2")
         .replace("dt = 1.0", "dt = 0.001")
@@ -24,7 +25,10 @@ fn stretch_history(integrator: &str) -> Vec<f64> {
     let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("newmark_{integrator}"));
     let text = std::fs::read_to_string(dir.join("history.csv")).unwrap();
     let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
-    let (top, bottom) = (header.iter().position(|h| *h == "top.displacement.z").unwrap(), header.iter().position(|h| *h == "bottom.displacement.z").unwrap());
+    let (top, bottom) = (
+        header.iter().position(|h| *h == "top.displacement.z").unwrap(),
+        header.iter().position(|h| *h == "bottom.displacement.z").unwrap(),
+    );
     assert!(out.completed);
     text.lines()
         .skip(1)
@@ -45,7 +49,16 @@ fn suddenly_loaded_bar_overshoots_twice_with_trapezoidal_and_decays_with_dda() {
         let tail = &h[h.len() * 3 / 4..];
         tail.iter().cloned().fold(f64::MIN, f64::max) - tail.iter().cloned().fold(f64::MAX, f64::min)
     };
-    assert!(peak(&trap) > 1.85 * statics && peak(&trap) < 2.15 * statics, "trapezoidal peak {} vs static {statics}", peak(&trap));
+    assert!(
+        peak(&trap) > 1.85 * statics && peak(&trap) < 2.15 * statics,
+        "trapezoidal peak {} vs static {statics}",
+        peak(&trap)
+    );
     assert!(peak(&dda) < peak(&trap), "DDA must damp the overshoot");
-    assert!(late_swing(&dda) < 0.5 * late_swing(&trap), "DDA swing {} vs trapezoidal {}", late_swing(&dda), late_swing(&trap));
+    assert!(
+        late_swing(&dda) < 0.5 * late_swing(&trap),
+        "DDA swing {} vs trapezoidal {}",
+        late_swing(&dda),
+        late_swing(&trap)
+    );
 }

@@ -201,7 +201,9 @@ pub fn detect_prepared(a: &Prepared, b: &Prepared, params: &DetectParams) -> Opt
     // just touching (diagonal neighbours, blocks meeting at an edge of a joint) are left alone:
     // a deeper plane would give them an overlap they do not have.
     let overlapping = top < -support_tolerance;
-    let mut order: Vec<usize> = (0..axes.len()).filter(|&m| overlapping && m != k && seps[m] >= top - FALLBACK_DEPTH * support_tolerance).collect();
+    let mut order: Vec<usize> = (0..axes.len())
+        .filter(|&m| overlapping && m != k && seps[m] >= top - FALLBACK_DEPTH * support_tolerance)
+        .collect();
     order.sort_by(|&p, &q| seps[q].total_cmp(&seps[p]));
     let mut first = None;
     for m in std::iter::once(k).chain(order) {
@@ -215,13 +217,21 @@ pub fn detect_prepared(a: &Prepared, b: &Prepared, params: &DetectParams) -> Opt
 }
 
 /// The contact on candidate axis `m` (an index into B's face normals, then A's, then edge pairs).
-fn contact_on_axis(a: &Prepared, b: &Prepared, m: usize, normal: Vec3, separation: f64, params: &DetectParams) -> Contact {
+fn contact_on_axis(
+    a: &Prepared,
+    b: &Prepared,
+    m: usize,
+    normal: Vec3,
+    separation: f64,
+    params: &DetectParams,
+) -> Contact {
     // A plane given by a face: that whole face is its piece's support, however far from flat
     // the deformed face is (its vertices need not all lie within the support tolerance).
     let (nb, na) = (b.normals.len(), a.normals.len());
     let face_b = (m < nb).then(|| b.faces[m].as_slice());
     let face_a = (nb <= m && m < nb + na).then(|| a.faces[m - nb].as_slice());
-    let (points, area) = contact_points((&a.vertices, face_a), (&b.vertices, face_b), &normal, params.support_tolerance);
+    let (points, area) =
+        contact_points((&a.vertices, face_a), (&b.vertices, face_b), &normal, params.support_tolerance);
     Contact { normal, separation, points: thin(points, params.thin_distance), area }
 }
 
@@ -269,7 +279,12 @@ fn hull(points: &[Vec3], n: &Vec3) -> Vec<Vec3> {
 
 /// The contact points and the overlap area. Each side's support is its face giving the plane,
 /// if any, else its vertices within `tol` of its extreme level along n.
-fn contact_points((va, face_a): (&[Vec3], Option<&[usize]>), (vb, face_b): (&[Vec3], Option<&[usize]>), n: &Vec3, tol: f64) -> (Vec<ContactPoint>, f64) {
+fn contact_points(
+    (va, face_a): (&[Vec3], Option<&[usize]>),
+    (vb, face_b): (&[Vec3], Option<&[usize]>),
+    n: &Vec3,
+    tol: f64,
+) -> (Vec<ContactPoint>, f64) {
     let (lo_a, _) = support(va, n);
     let (_, hi_b) = support(vb, n);
     let sa: Vec<Vec3> = match face_a {
@@ -336,7 +351,11 @@ fn segment_overlap(p0: Vec3, p1: Vec3, q0: Vec3, q1: Vec3, n: &Vec3, eps: f64) -
     }
     let t = (q0 - p0).cross(&e).dot(n) / den;
     let s = (q0 - p0).cross(&d).dot(n) / den;
-    if (0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&s) { vec![p0 + t * d] } else { Vec::new() }
+    if (0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&s) {
+        vec![p0 + t * d]
+    } else {
+        Vec::new()
+    }
 }
 
 /// The part of a segment inside a convex polygon (its two end points).
@@ -352,7 +371,11 @@ fn clip_segment(p0: Vec3, p1: Vec3, poly: &[Vec3], n: &Vec3, eps: f64) -> Vec<Ve
         }
         if s0 > eps || s1 > eps {
             let t = s0 / (s0 - s1);
-            if s0 > eps { t0 = t0.max(t) } else { t1 = t1.min(t) }
+            if s0 > eps {
+                t0 = t0.max(t)
+            } else {
+                t1 = t1.min(t)
+            }
         }
     }
     if t0 > t1 {
@@ -373,7 +396,11 @@ fn height_field(s: &[Vec3], n: &Vec3) -> impl Fn(&Vec3) -> f64 {
             1 => n.dot(&pts[0]),
             2 => {
                 let (a, b) = (flat(&pts[0]), flat(&pts[1]));
-                let t = if (b - a).norm() > 0.0 { ((p - a).dot(&(b - a)) / (b - a).norm_squared()).clamp(0.0, 1.0) } else { 0.0 };
+                let t = if (b - a).norm() > 0.0 {
+                    ((p - a).dot(&(b - a)) / (b - a).norm_squared()).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
                 n.dot(&pts[0]) * (1.0 - t) + n.dot(&pts[1]) * t
             }
             _ => {
@@ -392,7 +419,11 @@ fn height_field(s: &[Vec3], n: &Vec3) -> impl Fn(&Vec3) -> f64 {
                     sw += y * h;
                 }
                 let det = suu * sww - suw * suw;
-                let (gu, gw) = if det.abs() > 1e-300 { ((su * sww - sw * suw) / det, (sw * suu - su * suw) / det) } else { (0.0, 0.0) };
+                let (gu, gw) = if det.abs() > 1e-300 {
+                    ((su * sww - sw * suw) / det, (sw * suu - su * suw) / det)
+                } else {
+                    (0.0, 0.0)
+                };
                 h0 + gu * (p - c).dot(&u) + gw * (p - c).dot(&w)
             }
         }
@@ -437,10 +468,16 @@ mod tests {
     #[test]
     fn tetrahedron_point_down_is_one_vertex_point() {
         let base = ConvexPolyhedron::from_box(Vec3::new(-5.0, -5.0, -1.0), Vec3::new(5.0, 5.0, 0.0));
-        let v = [Vec3::new(0.0, 0.0, -0.002), Vec3::new(1.0, 0.0, 1.0), Vec3::new(-0.5, 0.9, 1.0), Vec3::new(-0.5, -0.9, 1.0)];
+        let v = [
+            Vec3::new(0.0, 0.0, -0.002),
+            Vec3::new(1.0, 0.0, 1.0),
+            Vec3::new(-0.5, 0.9, 1.0),
+            Vec3::new(-0.5, -0.9, 1.0),
+        ];
         let faces = vec![vec![0, 2, 1], vec![0, 1, 3], vec![0, 3, 2], vec![1, 2, 3]];
         let tet = ConvexPolyhedron::from_vertices_faces(&v, &faces).unwrap();
-        let c = detect(&tet, &base, &DetectParams { margin: 0.01, support_tolerance: 1e-3, thin_distance: 1e-2 }).unwrap();
+        let c =
+            detect(&tet, &base, &DetectParams { margin: 0.01, support_tolerance: 1e-3, thin_distance: 1e-2 }).unwrap();
         assert_eq!(c.points.len(), 1);
         assert_eq!(c.points[0].mode, Mode::VertexOfA);
         assert!((c.points[0].gap + 0.002).abs() < 1e-12);
@@ -451,7 +488,12 @@ mod tests {
     fn cube_on_its_edge_is_two_points() {
         let base = ConvexPolyhedron::from_box(Vec3::new(-5.0, -5.0, -1.0), Vec3::new(5.0, 5.0, 0.0));
         let h = 0.5 * 2f64.sqrt();
-        let c = detect(&rotated(&cube(Vec3::new(0.0, 0.0, h - 0.001), 1.0), [45.0, 0.0, 0.0]), &base, &DetectParams { margin: 0.01, support_tolerance: 1e-4, thin_distance: 1e-2 }).unwrap();
+        let c = detect(
+            &rotated(&cube(Vec3::new(0.0, 0.0, h - 0.001), 1.0), [45.0, 0.0, 0.0]),
+            &base,
+            &DetectParams { margin: 0.01, support_tolerance: 1e-4, thin_distance: 1e-2 },
+        )
+        .unwrap();
         assert_eq!(c.points.len(), 2, "{:?}", c.points);
         assert!(c.points.iter().all(|p| (p.gap + 0.001).abs() < 1e-9));
     }
@@ -462,7 +504,8 @@ mod tests {
         // corners are where the beams' edges cross.
         let lower = ConvexPolyhedron::from_box(Vec3::new(-3.0, -0.5, -1.0), Vec3::new(3.0, 0.5, 0.0));
         let upper = ConvexPolyhedron::from_box(Vec3::new(-0.4, -3.0, -0.001), Vec3::new(0.4, 3.0, 1.0));
-        let c = detect(&upper, &lower, &DetectParams { margin: 0.01, support_tolerance: 1e-4, thin_distance: 1e-2 }).unwrap();
+        let c = detect(&upper, &lower, &DetectParams { margin: 0.01, support_tolerance: 1e-4, thin_distance: 1e-2 })
+            .unwrap();
         assert!((c.normal - Vec3::z()).norm() < 1e-12);
         assert_eq!(c.points.len(), 4);
         assert_eq!(count(&c, Mode::EdgeEdge), 4, "{:?}", c.points);
@@ -474,7 +517,8 @@ mod tests {
         let lower = rotated(&cube(Vec3::new(0.0, 0.0, 0.0), 1.0), [45.0, 0.0, 0.0]);
         let h = 2f64.sqrt();
         let upper = rotated(&cube(Vec3::new(0.0, 0.0, h - 0.001), 1.0), [0.0, 45.0, 0.0]);
-        let c = detect(&upper, &lower, &DetectParams { margin: 0.01, support_tolerance: 1e-4, thin_distance: 1e-2 }).unwrap();
+        let c = detect(&upper, &lower, &DetectParams { margin: 0.01, support_tolerance: 1e-4, thin_distance: 1e-2 })
+            .unwrap();
         assert_eq!(c.points.len(), 1, "{:?}", c.points);
         assert_eq!(c.points[0].mode, Mode::EdgeEdge);
         assert!((c.points[0].gap + 0.001).abs() < 1e-9);
@@ -493,7 +537,8 @@ mod tests {
     /// Overlapping dominos (as in a run: margin 10.1 mm, support tolerance 0.1 mm): the contact
     /// has points, the deepest within `within` [m] of the separation.
     fn overlap_has_points(a: &ConvexPolyhedron, b: &ConvexPolyhedron, within: f64) {
-        let c = detect(a, b, &DetectParams { margin: 0.0101, support_tolerance: 1e-4, thin_distance: 1e-3 }).expect("within the margin");
+        let c = detect(a, b, &DetectParams { margin: 0.0101, support_tolerance: 1e-4, thin_distance: 1e-3 })
+            .expect("within the margin");
         assert!(c.separation < 0.0, "they overlap: {}", c.separation);
         assert!(!c.points.is_empty(), "no contact points on plane {:?}", c.normal);
         let deepest = c.points.iter().map(|p| p.gap).fold(f64::INFINITY, f64::min);
@@ -541,9 +586,19 @@ mod tests {
         // tolerance): its highest vertices are two opposite corners, away from the cube. The
         // face giving the plane is the support as a whole, so the cube's base meets it.
         let w = 5e-4;
-        let slab = ConvexPolyhedron::from_box(Vec3::new(-1.0, -1.0, -0.5), Vec3::new(1.0, 1.0, 0.0))
-            .map(|x| if x.z == 0.0 { Vec3::new(x.x, x.y, w * x.x.signum() * x.y.signum()) } else { *x });
-        let c = detect(&cube(Vec3::new(0.7, -0.7, 0.1 - 2e-4), 0.2), &slab, &DetectParams { margin: 0.01, support_tolerance: 1e-4, thin_distance: 1e-3 }).expect("touching");
+        let slab = ConvexPolyhedron::from_box(Vec3::new(-1.0, -1.0, -0.5), Vec3::new(1.0, 1.0, 0.0)).map(|x| {
+            if x.z == 0.0 {
+                Vec3::new(x.x, x.y, w * x.x.signum() * x.y.signum())
+            } else {
+                *x
+            }
+        });
+        let c = detect(
+            &cube(Vec3::new(0.7, -0.7, 0.1 - 2e-4), 0.2),
+            &slab,
+            &DetectParams { margin: 0.01, support_tolerance: 1e-4, thin_distance: 1e-3 },
+        )
+        .expect("touching");
         assert!((c.normal - Vec3::z()).norm() < 1e-3, "{:?}", c.normal);
         assert_eq!(count(&c, Mode::VertexOfA), 4, "{:?}", c.points);
         assert!(c.points.iter().all(|p| p.gap < 0.0 && p.gap > -2e-4 - w), "{:?}", c.points);
@@ -590,7 +645,8 @@ mod tests {
         let lower = rotated(&cube(Vec3::zeros(), 1.0), [45.0, 0.0, 0.0]);
         let h = 2f64.sqrt();
         let upper = rotated(&cube(Vec3::new(0.4, 0.0, h - 0.001), 1.0), [45.0, 0.0, 0.0]);
-        let c = detect(&upper, &lower, &DetectParams { margin: 0.01, support_tolerance: 1e-4, thin_distance: 1e-2 }).unwrap();
+        let c = detect(&upper, &lower, &DetectParams { margin: 0.01, support_tolerance: 1e-4, thin_distance: 1e-2 })
+            .unwrap();
         assert_eq!(c.points.len(), 2, "{:?}", c.points);
         let xs: Vec<f64> = c.points.iter().map(|p| p.on_a.x).collect();
         assert!((xs[0].min(xs[1]) + 0.1).abs() < 1e-9 && (xs[0].max(xs[1]) - 0.5).abs() < 1e-9, "{xs:?}");

@@ -178,7 +178,10 @@ mod tests {
             Face { vertices: (0..n).map(|i| v(i, 1.0)).collect(), tag: FaceTag(1) },
         ];
         for i in 0..n {
-            faces.push(Face { vertices: vec![v(i, 0.0), v(i + 1, 0.0), v(i + 1, 1.0), v(i, 1.0)], tag: FaceTag(2 + i as u32) });
+            faces.push(Face {
+                vertices: vec![v(i, 0.0), v(i + 1, 0.0), v(i + 1, 1.0), v(i, 1.0)],
+                tag: FaceTag(2 + i as u32),
+            });
         }
         faces
     }
@@ -190,10 +193,12 @@ mod tests {
         assert!((vol - 0.75).abs() < 1e-12, "{vol}");
         assert!(pieces.len() >= 2);
         // Boundary area (non-glue faces) equals the L-prism's surface: 2 × 0.75 + perimeter 4.
-        let boundary: f64 = pieces.iter().flat_map(|p| p.faces.iter()).filter(|f| f.tag != GLUE.glue).map(|f| f.area()).sum();
+        let boundary: f64 =
+            pieces.iter().flat_map(|p| p.faces.iter()).filter(|f| f.tag != GLUE.glue).map(|f| f.area()).sum();
         assert!((boundary - (1.5 + 4.0)).abs() < 1e-12, "{boundary}");
         // Glue faces pair up: their area vectors cancel.
-        let glue: Vec3 = pieces.iter().flat_map(|p| p.faces.iter()).filter(|f| f.tag == GLUE.glue).map(|f| f.area_vector()).sum();
+        let glue: Vec3 =
+            pieces.iter().flat_map(|p| p.faces.iter()).filter(|f| f.tag == GLUE.glue).map(|f| f.area_vector()).sum();
         assert!(glue.norm() < 1e-12);
     }
 
@@ -206,8 +211,15 @@ mod tests {
         // The hole crosses the block: 1 × 2 × 1 m of it lies inside.
         assert!((vol - (16.0 - 2.0)).abs() < 1e-12, "{vol}");
         // The tunnel's wall area: 2 faces of 1 × 2 (x = 1, 2) and 2 of 1 × 2 (z = 0.5, 1.5) → 8 m².
-        let wall: f64 = kept.iter().flat_map(|p| p.faces.iter()).filter(|f| (100..106).contains(&f.tag.0)).map(|f| f.area()).sum();
+        let wall: f64 =
+            kept.iter().flat_map(|p| p.faces.iter()).filter(|f| (100..106).contains(&f.tag.0)).map(|f| f.area()).sum();
         assert!((wall - 8.0).abs() < 1e-12, "{wall}");
-        assert!(subtract_convex(&block, &ConvexPolyhedron::from_box(Vec3::repeat(10.0), Vec3::repeat(11.0)), |k| FaceTag(k as u32), GLUE).is_none());
+        assert!(subtract_convex(
+            &block,
+            &ConvexPolyhedron::from_box(Vec3::repeat(10.0), Vec3::repeat(11.0)),
+            |k| FaceTag(k as u32),
+            GLUE
+        )
+        .is_none());
     }
 }

@@ -138,7 +138,9 @@ pub fn tet_box_moments(t: &[Vec3; 4], m: usize) -> Vec<f64> {
             for b in 0..w {
                 for a in 0..w {
                     factor[idx(a, b, c)] = FACT[a + b + c] / (FACT[a] * FACT[b] * FACT[c])
-                        * v.x.powi(a as i32) * v.y.powi(b as i32) * v.z.powi(c as i32);
+                        * v.x.powi(a as i32)
+                        * v.y.powi(b as i32)
+                        * v.z.powi(c as i32);
                 }
             }
         }

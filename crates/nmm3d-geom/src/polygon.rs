@@ -107,7 +107,14 @@ mod tests {
 
     #[test]
     fn convex_intersection_and_difference_partition_the_subject() {
-        let sq = |x0: f64, y0: f64, s: f64| vec![Vec3::new(x0, y0, 0.0), Vec3::new(x0 + s, y0, 0.0), Vec3::new(x0 + s, y0 + s, 0.0), Vec3::new(x0, y0 + s, 0.0)];
+        let sq = |x0: f64, y0: f64, s: f64| {
+            vec![
+                Vec3::new(x0, y0, 0.0),
+                Vec3::new(x0 + s, y0, 0.0),
+                Vec3::new(x0 + s, y0 + s, 0.0),
+                Vec3::new(x0, y0 + s, 0.0),
+            ]
+        };
         let (a, b) = (sq(0.0, 0.0, 2.0), sq(1.0, 1.0, 2.0));
         let z = Vec3::z();
         let i = intersect_convex(&a, &b, &z, 1e-12);

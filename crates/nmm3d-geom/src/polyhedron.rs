@@ -262,10 +262,7 @@ mod tests {
         let good = vec![vec![0, 2, 1], vec![0, 1, 3], vec![0, 3, 2], vec![1, 2, 3]];
         assert!(ConvexPolyhedron::from_vertices_faces(&v, &good).is_ok());
         let flipped = vec![vec![0, 1, 2], vec![0, 1, 3], vec![0, 3, 2], vec![1, 2, 3]];
-        assert!(matches!(
-            ConvexPolyhedron::from_vertices_faces(&v, &flipped),
-            Err(GeomError::NotClosed { .. })
-        ));
+        assert!(matches!(ConvexPolyhedron::from_vertices_faces(&v, &flipped), Err(GeomError::NotClosed { .. })));
         let open = vec![vec![0, 2, 1], vec![0, 1, 3], vec![0, 3, 2]];
         assert!(ConvexPolyhedron::from_vertices_faces(&v, &open).is_err());
     }

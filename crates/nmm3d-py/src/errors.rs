@@ -8,10 +8,20 @@ use pyo3::exceptions::PyException;
 use pyo3::PyErr;
 
 create_exception!(nmm3d, NmmError, PyException, "Base class of nmm3d errors.");
-create_exception!(nmm3d, ScenarioError, NmmError, "Invalid scenario: the message names the file, key path and reason (CLI exit 2).");
+create_exception!(
+    nmm3d,
+    ScenarioError,
+    NmmError,
+    "Invalid scenario: the message names the file, key path and reason (CLI exit 2)."
+);
 create_exception!(nmm3d, RunError, NmmError, "The run failed: divergence or an unsolvable system (CLI exit 1).");
 create_exception!(nmm3d, OutputError, NmmError, "An output file could not be written (CLI exit 1).");
-create_exception!(nmm3d, InternalError, NmmError, "A defect of nmm3d (a Rust panic), with the phase it stopped in (CLI exit 1).");
+create_exception!(
+    nmm3d,
+    InternalError,
+    NmmError,
+    "A defect of nmm3d (a Rust panic), with the phase it stopped in (CLI exit 1)."
+);
 
 /// Map a core error to its Python exception.
 pub fn to_py(e: nmm3d_core::Error) -> PyErr {
@@ -54,7 +64,9 @@ pub fn guard<T>(phase: &str, f: impl FnOnce() -> nmm3d_core::Result<T>) -> Resul
         Err(payload) => {
             let kept = LAST_PANIC.lock().ok().and_then(|mut last| last.take());
             let why = kept.unwrap_or_else(|| payload_text(payload.as_ref()));
-            Err(InternalError::new_err(format!("internal error while {phase}: {why} (a defect of nmm3d: please report it with the scenario)")))
+            Err(InternalError::new_err(format!(
+                "internal error while {phase}: {why} (a defect of nmm3d: please report it with the scenario)"
+            )))
         }
     }
 }

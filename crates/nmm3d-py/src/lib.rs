@@ -18,14 +18,20 @@ static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 #[pyfunction]
 #[pyo3(signature = (path, overrides = Vec::new()))]
 fn load_file(py: Python<'_>, path: PathBuf, overrides: Vec<String>) -> PyResult<String> {
-    py.detach(|| errors::guard("loading the scenario", || scenario::load_file(&path, &overrides).map(|s| canonical(&s))))
+    py.detach(|| {
+        errors::guard("loading the scenario", || scenario::load_file(&path, &overrides).map(|s| canonical(&s)))
+    })
 }
 
 /// Validate a scenario given as JSON text (`label` names it in messages); returns it canonical.
 #[pyfunction]
 #[pyo3(signature = (text, label, overrides = Vec::new()))]
 fn load_json(py: Python<'_>, text: String, label: String, overrides: Vec<String>) -> PyResult<String> {
-    py.detach(|| errors::guard("loading the scenario", || scenario::from_json_str(&text, &label, &overrides).map(|s| canonical(&s))))
+    py.detach(|| {
+        errors::guard("loading the scenario", || {
+            scenario::from_json_str(&text, &label, &overrides).map(|s| canonical(&s))
+        })
+    })
 }
 
 /// Run a scenario (JSON text) writing outputs to `out`; returns the summary as JSON text.
@@ -34,7 +40,14 @@ fn load_json(py: Python<'_>, text: String, label: String, overrides: Vec<String>
 /// `checkpoint.json` is in `out`.
 #[pyfunction]
 #[pyo3(signature = (text, label, out, progress = false, resume = false))]
-fn run_json(py: Python<'_>, text: String, label: String, out: PathBuf, progress: bool, resume: bool) -> PyResult<String> {
+fn run_json(
+    py: Python<'_>,
+    text: String,
+    label: String,
+    out: PathBuf,
+    progress: bool,
+    resume: bool,
+) -> PyResult<String> {
     let stop = StopRequest(std::sync::Arc::new(|| Python::attach(|py| py.check_signals().is_err())));
     let outcome = py.detach(|| {
         errors::guard("running", || {
@@ -66,7 +79,9 @@ fn blocks_json(py: Python<'_>, text: String, label: String, out: Option<PathBuf>
 #[pyfunction]
 fn cover_report_json(py: Python<'_>, text: String, label: String) -> PyResult<String> {
     let v = py.detach(|| {
-        errors::guard("building the covers", || scenario::from_json_str(&text, &label, &[]).map(|s| nmm3d_core::blocks::cover_report(&s)))
+        errors::guard("building the covers", || {
+            scenario::from_json_str(&text, &label, &[]).map(|s| nmm3d_core::blocks::cover_report(&s))
+        })
     })?;
     Ok(v.to_string())
 }

@@ -37,7 +37,9 @@ impl Coupling {
         for (a, &c) in covers.iter().enumerate() {
             match &dofs.kind[c] {
                 CoverDofs::Free(_) => spread.push((a as u32, node_of(c, &mut nodes), 1.0)),
-                CoverDofs::Tied(masters) => spread.extend(masters.iter().map(|&(m, w)| (a as u32, node_of(m, &mut nodes), w))),
+                CoverDofs::Tied(masters) => {
+                    spread.extend(masters.iter().map(|&(m, w)| (a as u32, node_of(m, &mut nodes), w)))
+                }
                 CoverDofs::Fixed => {}
             }
         }
@@ -45,7 +47,13 @@ impl Coupling {
         let offsets = blocks
             .iter()
             .flat_map(|&p| blocks.iter().map(move |&q| (p, q)))
-            .map(|(p, q)| if p >= q { pattern.block_offset(p as usize, q as usize).expect("the pattern holds the coupling") } else { UPPER })
+            .map(|(p, q)| {
+                if p >= q {
+                    pattern.block_offset(p as usize, q as usize).expect("the pattern holds the coupling")
+                } else {
+                    UPPER
+                }
+            })
             .collect();
         Self { blocks, spread, offsets }
     }

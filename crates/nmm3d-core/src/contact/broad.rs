@@ -25,10 +25,17 @@ pub struct Warning {
 impl Warning {
     /// Candidate pairs for the current pieces; `keep(i, j)` filters pairs that can never touch
     /// (same block, both fixed). Rebuilt only when a vertex moved more than skin / 2.
-    pub fn update(&mut self, current: &[ConvexPolyhedron], margin: f64, skin: f64, keep: impl Fn(usize, usize) -> bool) -> &[(usize, usize)] {
+    pub fn update(
+        &mut self,
+        current: &[ConvexPolyhedron],
+        margin: f64,
+        skin: f64,
+        keep: impl Fn(usize, usize) -> bool,
+    ) -> &[(usize, usize)] {
         if self.is_stale(current) || skin != self.skin {
             self.skin = skin;
-            self.anchors = current.iter().map(|p| p.faces.iter().flat_map(|f| f.vertices.iter().copied()).collect()).collect();
+            self.anchors =
+                current.iter().map(|p| p.faces.iter().flat_map(|f| f.vertices.iter().copied()).collect()).collect();
             let boxes: Vec<Aabb> = current.iter().map(|c| c.aabb()).collect();
             self.pairs = sweep(&boxes, margin + skin).into_iter().filter(|&(i, j)| keep(i, j)).collect();
             self.rebuilds += 1;

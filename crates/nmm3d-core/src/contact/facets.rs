@@ -59,7 +59,11 @@ pub fn facets_of_piece(sys: &System, block: usize, piece: &nmm3d_geom::ConvexPol
             }
             let vertices = x
                 .into_iter()
-                .map(|p| MaterialPoint { element: e, weights: crate::element::loads::weights_at(covers, me, &p), reference: p })
+                .map(|p| MaterialPoint {
+                    element: e,
+                    weights: crate::element::loads::weights_at(covers, me, &p),
+                    reference: p,
+                })
                 .collect();
             out.push(Facet { vertices });
         }
@@ -69,11 +73,20 @@ pub fn facets_of_piece(sys: &System, block: usize, piece: &nmm3d_geom::ConvexPol
 
 /// Facets of a piece (with their current vertices `x`) facing along `outward` whose every
 /// vertex lies within `tol` of the level `level` (n·x).
-fn on_level<'a>(facets: &'a [Facet], x: &'a [Vec<Vec3>], n: &Vec3, level: f64, outward: f64, tol: f64) -> Vec<(&'a Facet, &'a [Vec3])> {
+fn on_level<'a>(
+    facets: &'a [Facet],
+    x: &'a [Vec<Vec3>],
+    n: &Vec3,
+    level: f64,
+    outward: f64,
+    tol: f64,
+) -> Vec<(&'a Facet, &'a [Vec3])> {
     facets
         .iter()
         .zip(x)
-        .filter(|(_, x)| x.iter().all(|p| (n.dot(p) - level).abs() <= tol) && outward * polygon::area_vector(x).dot(n) > 0.0)
+        .filter(|(_, x)| {
+            x.iter().all(|p| (n.dot(p) - level).abs() <= tol) && outward * polygon::area_vector(x).dot(n) > 0.0
+        })
         .map(|(f, x)| (f, x.as_slice()))
         .collect()
 }
@@ -82,7 +95,15 @@ fn on_level<'a>(facets: &'a [Facet], x: &'a [Vec<Vec3>], n: &Vec3, level: f64, o
 /// and of B (each with their current vertices), A's lowest and B's highest level along `n`;
 /// empty when either side has no facet on the contact plane (a vertex or an edge meets a face:
 /// the piece-level points stand).
-pub fn overlay(sys: &System, (fa, xa): (&[Facet], &[Vec<Vec3>]), (fb, xb): (&[Facet], &[Vec<Vec3>]), n: &Vec3, (level_a, level_b): (f64, f64), tol: f64, merge: f64) -> Vec<Candidate> {
+pub fn overlay(
+    sys: &System,
+    (fa, xa): (&[Facet], &[Vec<Vec3>]),
+    (fb, xb): (&[Facet], &[Vec<Vec3>]),
+    n: &Vec3,
+    (level_a, level_b): (f64, f64),
+    tol: f64,
+    merge: f64,
+) -> Vec<Candidate> {
     let sa = on_level(fa, xa, n, level_a, -1.0, tol);
     let sb = on_level(fb, xb, n, level_b, 1.0, tol);
     if sa.is_empty() || sb.is_empty() {
@@ -92,7 +113,10 @@ pub fn overlay(sys: &System, (fa, xa): (&[Facet], &[Vec<Vec3>]), (fb, xb): (&[Fa
     // A's facets are clockwise about n (they face −n): reverse them for the 2-D overlay.
     let pa: Vec<Vec<Vec3>> = sa.iter().map(|(_, x)| x.iter().rev().map(flat).collect()).collect();
     let pb: Vec<Vec<Vec3>> = sb.iter().map(|(_, x)| x.iter().map(flat).collect()).collect();
-    let bounds = |p: &[Vec3]| p.iter().fold((Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY)), |(lo, hi), v| (lo.inf(v), hi.sup(v)));
+    let bounds = |p: &[Vec3]| {
+        p.iter()
+            .fold((Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY)), |(lo, hi), v| (lo.inf(v), hi.sup(v)))
+    };
     let ba: Vec<_> = pa.iter().map(|p| bounds(p)).collect();
     let bb: Vec<_> = pb.iter().map(|p| bounds(p)).collect();
     let eps = 1e-6 * tol;

@@ -194,7 +194,14 @@ impl ContactSet {
             .enumerate()
             .flat_map(|(b, block)| block.pieces.iter().filter_map(move |p| ContactPiece::new(sys, b, p)))
             .collect();
-        Some(Self { pieces, records: Vec::new(), params, warning: Warning::default(), times: ContactTimes::default(), locked: false })
+        Some(Self {
+            pieces,
+            records: Vec::new(),
+            params,
+            warning: Warning::default(),
+            times: ContactTimes::default(),
+            locked: false,
+        })
     }
 
     /// Re-detect on the current geometry; transfer state, shear, preload and bond from the
@@ -206,7 +213,9 @@ impl ContactSet {
         let p = self.params;
         let dp = DetectParams { margin: p.margin, support_tolerance: p.tolerance, thin_distance: 10.0 * p.tolerance };
         let pieces = &self.pieces;
-        let keep = |i: usize, j: usize| pieces[i].block != pieces[j].block && !both_fixed(sys, pieces[i].block, pieces[j].block);
+        let keep = |i: usize, j: usize| {
+            pieces[i].block != pieces[j].block && !both_fixed(sys, pieces[i].block, pieces[j].block)
+        };
         let pairs = self.warning.update(&current, p.margin, p.skin, keep);
         self.times.warning += clock.elapsed().as_secs_f64();
         let clock = Instant::now();
@@ -220,7 +229,11 @@ impl ContactSet {
             .map(|&(i, j)| if pieces[i].block > pieces[j].block { (i, j) } else { (j, i) })
             .filter_map(|(i, j)| {
                 let c = detect_prepared(&prepared[i], &prepared[j], &dp)?;
-                let on = Surfaces { pieces: (&pieces[i], &pieces[j]), current: (&current[i], &current[j]), facets: (facets_of(i), facets_of(j)) };
+                let on = Surfaces {
+                    pieces: (&pieces[i], &pieces[j]),
+                    current: (&current[i], &current[j]),
+                    facets: (facets_of(i), facets_of(j)),
+                };
                 Some((i, j, c.normal, candidates(sys, state, &on, &c, p.tolerance)))
             })
             .collect();
@@ -248,7 +261,8 @@ impl ContactSet {
 
     /// Pairs of MEs (lower first) with a closed point, sorted, each once.
     pub fn closed_pairs(&self) -> Vec<(usize, usize)> {
-        let mut pairs: Vec<_> = self.records.iter().filter(|r| r.state != ContactState::Open).map(ContactRecord::element_pair).collect();
+        let mut pairs: Vec<_> =
+            self.records.iter().filter(|r| r.state != ContactState::Open).map(ContactRecord::element_pair).collect();
         pairs.sort_unstable();
         pairs.dedup();
         pairs
@@ -258,8 +272,16 @@ impl ContactSet {
     /// (on `pattern`) through the pair's coupling (its covers, lower ME first); the constant
     /// forces go straight to `force` per cover. A point's matrix is w wᵀ ⊗ B, so tied covers
     /// are folded into the weights (Tᵀ w) before the product, not after.
-    pub fn assemble<'a>(&self, sys: &System, force: &mut [Vec3], pattern: &SparsityPattern, coupling: impl Fn((usize, usize)) -> &'a Coupling, values: &mut [f64]) {
-        let mut order: Vec<usize> = (0..self.records.len()).filter(|&k| self.records[k].state != ContactState::Open).collect();
+    pub fn assemble<'a>(
+        &self,
+        sys: &System,
+        force: &mut [Vec3],
+        pattern: &SparsityPattern,
+        coupling: impl Fn((usize, usize)) -> &'a Coupling,
+        values: &mut [f64],
+    ) {
+        let mut order: Vec<usize> =
+            (0..self.records.len()).filter(|&k| self.records[k].state != ContactState::Open).collect();
         order.sort_by_key(|&k| self.records[k].element_pair());
         let (mut mat, mut w, mut wm) = (Vec::new(), Vec::new(), Vec::new());
         let mut k = 0;
@@ -274,10 +296,12 @@ impl ContactSet {
                 k += 1;
                 let (block, f) = r.spring();
                 // Weights in the clique order of the pair (lower ME first); B's negative.
-                let (first, second, sign) = if r.a.element < r.b.element { (&r.a, &r.b, 1.0) } else { (&r.b, &r.a, -1.0) };
+                let (first, second, sign) =
+                    if r.a.element < r.b.element { (&r.a, &r.b, 1.0) } else { (&r.b, &r.a, -1.0) };
                 w.clear();
                 w.extend(first.weights.iter().map(|x| sign * x).chain(second.weights.iter().map(|x| -sign * x)));
-                let covers = sys.covers.elements[first.element].covers.iter().chain(&sys.covers.elements[second.element].covers);
+                let covers =
+                    sys.covers.elements[first.element].covers.iter().chain(&sys.covers.elements[second.element].covers);
                 for (&c, wc) in covers.zip(&w) {
                     force[c] += *wc * f;
                 }
@@ -333,7 +357,9 @@ impl ContactSet {
         for r in &mut self.records {
             // The spring this solve used, linearised about the last iterate.
             let (block, constant) = r.spring();
-            let inc = |mp: &MaterialPoint| -> Vec3 { sys.covers.elements[mp.element].covers.iter().zip(&mp.weights).map(|(&c, w)| *w * d[c]).sum() };
+            let inc = |mp: &MaterialPoint| -> Vec3 {
+                sys.covers.elements[mp.element].covers.iter().zip(&mp.weights).map(|(&c, w)| *w * d[c]).sum()
+            };
             // The friction this solve used (linearised about the last iterate).
             let used = (r.state == ContactState::Slide).then(|| r.friction().0);
             r.rel = inc(&r.a) - inc(&r.b);
@@ -446,7 +472,9 @@ impl ContactSet {
     /// corner that came in during the last step without a point, detected now — is being pushed
     /// out; no smaller step can undo an overlap that is there at the start.)
     pub fn overlap_growing_beyond(&self, depth: f64) -> bool {
-        self.records.iter().any(|r| r.state != ContactState::Open && !r.joint_stiffness && -r.gap > depth && r.gap < r.gap0)
+        self.records
+            .iter()
+            .any(|r| r.state != ContactState::Open && !r.joint_stiffness && -r.gap > depth && r.gap < r.gap0)
     }
 
     /// Largest penetration among closed points [m].
@@ -503,9 +531,19 @@ struct Surfaces<'a> {
 fn candidates(sys: &System, state: &State, on: &Surfaces, c: &Contact, tol: f64) -> Vec<Candidate> {
     let ((pa, pb), (ca, cb)) = (on.pieces, on.current);
     let n = c.normal;
-    let level = |p: &ConvexPolyhedron, f: fn(f64, f64) -> f64, init: f64| p.faces.iter().flat_map(|x| x.vertices.iter()).map(|v| n.dot(v)).fold(init, f);
+    let level = |p: &ConvexPolyhedron, f: fn(f64, f64) -> f64, init: f64| {
+        p.faces.iter().flat_map(|x| x.vertices.iter()).map(|v| n.dot(v)).fold(init, f)
+    };
     let (level_a, level_b) = (level(ca, f64::min, f64::INFINITY), level(cb, f64::max, f64::NEG_INFINITY));
-    let on_facets = facets::overlay(sys, (&pa.facets, on.facets.0), (&pb.facets, on.facets.1), &n, (level_a, level_b), tol, MERGE * tol);
+    let on_facets = facets::overlay(
+        sys,
+        (&pa.facets, on.facets.0),
+        (&pb.facets, on.facets.1),
+        &n,
+        (level_a, level_b),
+        tol,
+        MERGE * tol,
+    );
     if !on_facets.is_empty() {
         return on_facets;
     }
@@ -529,7 +567,11 @@ fn candidates(sys: &System, state: &State, on: &Surfaces, c: &Contact, tol: f64)
 /// over one cover cell's face (size²), so a face carries the same stiffness per area however
 /// finely its points fall (at least [`MIN_SHARE`]); a point contact (no area) takes them whole.
 fn stiffness_share(area: f64, size: f64) -> f64 {
-    if area > 0.0 { (area / (size * size)).max(MIN_SHARE) } else { 1.0 }
+    if area > 0.0 {
+        (area / (size * size)).max(MIN_SHARE)
+    } else {
+        1.0
+    }
 }
 
 /// Smallest stiffness share of a point of an area contact.
@@ -567,7 +609,15 @@ fn in_situ_traction(sys: &System, x: &Vec3, n: &Vec3) -> Vec3 {
 /// The state of point `r` after a solve (the table of the module documentation), from its
 /// normal force, elastic trial shear force `held` and Coulomb limit, with hysteresis of ±`band`
 /// on gap and cone.
-fn next_state(r: &ContactRecord, normal: f64, held: &Vec3, limit: f64, band: f64, reclose: f64, locked: bool) -> ContactState {
+fn next_state(
+    r: &ContactRecord,
+    normal: f64,
+    held: &Vec3,
+    limit: f64,
+    band: f64,
+    reclose: f64,
+    locked: bool,
+) -> ContactState {
     let closing = r.state == ContactState::Open;
     match r.state {
         // Open until it overlaps beyond the band: a point at zero force (the side faces of
@@ -595,7 +645,13 @@ fn next_state(r: &ContactRecord, normal: f64, held: &Vec3, limit: f64, band: f64
 /// pair nearest it — carried: zero level always; state, shear, slip, preload and bond when the
 /// predecessor is within the transfer distance and closed; a pair already sliding makes a new
 /// point slide at the Coulomb limit instead of braking as a fresh stuck spring.
-fn inherit(r: &mut ContactRecord, previous: &[ContactRecord], candidates: Option<&Vec<usize>>, p: &ContactParams, locked: bool) {
+fn inherit(
+    r: &mut ContactRecord,
+    previous: &[ContactRecord],
+    candidates: Option<&Vec<usize>>,
+    p: &ContactParams,
+    locked: bool,
+) {
     let q_gap = r.gap0;
     let nearest_old = nearest(previous, candidates, &r.a.reference, f64::INFINITY);
     if let Some(old) = nearest_old {
@@ -631,7 +687,12 @@ fn inherit(r: &mut ContactRecord, previous: &[ContactRecord], candidates: Option
 }
 
 /// The previous point (among `candidates`) nearest `x` within `reach`.
-fn nearest<'a>(previous: &'a [ContactRecord], candidates: Option<&Vec<usize>>, x: &Vec3, reach: f64) -> Option<&'a ContactRecord> {
+fn nearest<'a>(
+    previous: &'a [ContactRecord],
+    candidates: Option<&Vec<usize>>,
+    x: &Vec3,
+    reach: f64,
+) -> Option<&'a ContactRecord> {
     candidates?
         .iter()
         .map(|&k| &previous[k])
@@ -663,7 +724,15 @@ pub fn overlap_problems(sys: &System, set: &ContactSet, depth: f64) -> Vec<Probl
 impl ContactRecord {
     /// A point detected now, before any transfer: touching points are closed (stuck), and at
     /// the start take their gap as zero level, the joint's bond and the in-situ preload.
-    fn fresh(sys: &System, q: Candidate, blocks: (usize, usize), normal: Vec3, joint: Option<&Joint>, initial: bool, p: &ContactParams) -> Self {
+    fn fresh(
+        sys: &System,
+        q: Candidate,
+        blocks: (usize, usize),
+        normal: Vec3,
+        joint: Option<&Joint>,
+        initial: bool,
+        p: &ContactParams,
+    ) -> Self {
         // Touching counts as closed: blocks placed on each other start in contact.
         let touching = q.gap <= TOUCHING * p.tolerance;
         let bonded = initial && touching;

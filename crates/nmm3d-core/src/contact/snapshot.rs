@@ -23,7 +23,12 @@ pub struct ContactSnapshot {
 impl ContactSet {
     /// The state of the set.
     pub fn snapshot(&self) -> ContactSnapshot {
-        ContactSnapshot { records: self.records.clone(), params: self.params, warning: self.warning.clone(), locked: self.locked }
+        ContactSnapshot {
+            records: self.records.clone(),
+            params: self.params,
+            warning: self.warning.clone(),
+            locked: self.locked,
+        }
     }
 
     /// Take the state of a snapshot of a set built on the same model.

@@ -65,7 +65,15 @@ impl ContactPiece {
         let faces = piece
             .faces
             .iter()
-            .map(|f| (f.vertices.iter().map(|v| refs.iter().position(|w| (w - v).norm() <= tol).expect("vertex")).collect(), f.tag))
+            .map(|f| {
+                (
+                    f.vertices
+                        .iter()
+                        .map(|v| refs.iter().position(|w| (w - v).norm() <= tol).expect("vertex"))
+                        .collect(),
+                    f.tag,
+                )
+            })
             .collect();
         Some(Self { block, vertices, faces, facets: facets_of_piece(sys, block, piece) })
     }
@@ -73,7 +81,13 @@ impl ContactPiece {
     /// Current geometry.
     pub fn current(&self, sys: &System, state: &State) -> ConvexPolyhedron {
         let x: Vec<Vec3> = self.vertices.iter().map(|m| m.position(sys, state)).collect();
-        ConvexPolyhedron { faces: self.faces.iter().map(|(ids, tag)| Face { vertices: ids.iter().map(|&i| x[i]).collect(), tag: *tag }).collect() }
+        ConvexPolyhedron {
+            faces: self
+                .faces
+                .iter()
+                .map(|(ids, tag)| Face { vertices: ids.iter().map(|&i| x[i]).collect(), tag: *tag })
+                .collect(),
+        }
     }
 
     /// Current vertices of every facet.

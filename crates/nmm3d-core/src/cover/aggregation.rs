@@ -59,7 +59,14 @@ pub fn tie_ill_posed(covers: &Covers, fixed_block: &[bool], threshold: f64) -> V
     tied
 }
 
-fn nearest_root(covers: &Covers, roots: &HashMap<(usize, [i32; 3]), Vec<usize>>, reach: &HashMap<usize, ([i32; 3], [i32; 3])>, block: usize, node: [i32; 3], x: &Vec3) -> Option<usize> {
+fn nearest_root(
+    covers: &Covers,
+    roots: &HashMap<(usize, [i32; 3]), Vec<usize>>,
+    reach: &HashMap<usize, ([i32; 3], [i32; 3])>,
+    block: usize,
+    node: [i32; 3],
+    x: &Vec3,
+) -> Option<usize> {
     let centre = [node[0].div_euclid(2), node[1].div_euclid(2), node[2].div_euclid(2)];
     // No ring beyond the block's farthest root cell can hold a root: a block without roots (a
     // sliver whose every ME is ill-posed) is answered at once instead of after 129³ cells.

@@ -61,7 +61,6 @@ impl Covers {
         Self { mesh, pattern, elements, covers, by_cell }
     }
 
-
     /// Weight functions of an ME's nodes.
     pub fn weights(&self, e: &ManifoldElement) -> &[poly::Poly] {
         &self.pattern.of_cell(e.cell)[e.subcell].weights
@@ -146,7 +145,9 @@ fn block_elements(
         let planes: Vec<(Plane, FaceTag)> = local
             .faces
             .iter()
-            .filter_map(|f| Plane::from_point_normal(polygon::centroid(&f.vertices), f.area_vector()).map(|p| (p, f.tag)))
+            .filter_map(|f| {
+                Plane::from_point_normal(polygon::centroid(&f.vertices), f.area_vector()).map(|p| (p, f.tag))
+            })
             .collect();
         let bb = local.aabb();
         let eps = FULL_CELL_TOLERANCE * bb.diagonal();
@@ -202,7 +203,16 @@ fn block_elements(
             }
             let full = group.len() == 1 && parts[group[0] + start].4;
             let geom = group.iter().map(|&g| parts[g + start].2.clone()).collect();
-            out.push(ManifoldElement { block: b, cell, subcell, covers: Vec::new(), volume: m[0] * s3, parts: geom, full, moments: m });
+            out.push(ManifoldElement {
+                block: b,
+                cell,
+                subcell,
+                covers: Vec::new(),
+                volume: m[0] * s3,
+                parts: geom,
+                full,
+                moments: m,
+            });
         }
         start = end;
     }
@@ -217,9 +227,10 @@ fn connected_parts(parts: &[Part]) -> Vec<Vec<usize>> {
     let mut uf = UnionFind::new(parts.len());
     for a in 0..parts.len() {
         for b in a + 1..parts.len() {
-            let touch = parts[a].2.faces.iter().filter(|f| f.tag == tags::GLUE).any(|fa| {
-                parts[b].2.faces.iter().filter(|f| f.tag == tags::GLUE).any(|fb| faces_touch(fa, fb, 1.0))
-            });
+            let touch =
+                parts[a].2.faces.iter().filter(|f| f.tag == tags::GLUE).any(|fa| {
+                    parts[b].2.faces.iter().filter(|f| f.tag == tags::GLUE).any(|fb| faces_touch(fa, fb, 1.0))
+                });
             if touch {
                 uf.union(a, b);
             }

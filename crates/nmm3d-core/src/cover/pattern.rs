@@ -166,7 +166,11 @@ fn hex8() -> SubCell {
             let f = |bit: usize, axis: usize| {
                 let mut e = Vec3::zeros();
                 e[axis] = 1.0;
-                if (c >> bit) & 1 == 1 { Poly::affine(0.0, e) } else { Poly::affine(1.0, -e) }
+                if (c >> bit) & 1 == 1 {
+                    Poly::affine(0.0, e)
+                } else {
+                    Poly::affine(1.0, -e)
+                }
             };
             f(0, 0).mul(&f(1, 1)).mul(&f(2, 2))
         })

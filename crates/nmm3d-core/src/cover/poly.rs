@@ -80,10 +80,14 @@ impl Poly {
         let px = [1.0, xi.x, xi.x * xi.x];
         let py = [1.0, xi.y, xi.y * xi.y];
         let pz = [1.0, xi.z, xi.z * xi.z];
-        self.0.iter().enumerate().map(|(k, c)| {
-            let e = exponent(k);
-            c * px[e[0] as usize] * py[e[1] as usize] * pz[e[2] as usize]
-        }).sum()
+        self.0
+            .iter()
+            .enumerate()
+            .map(|(k, c)| {
+                let e = exponent(k);
+                c * px[e[0] as usize] * py[e[1] as usize] * pz[e[2] as usize]
+            })
+            .sum()
     }
 
     /// ∫ p dξ given the moments ∫ ξ^a η^b ζ^c dξ (entries not computed must be NaN, so that

@@ -81,7 +81,14 @@ pub fn stress_matrix(s: &[f64; 6]) -> Mat3 {
 
 /// [xx, yy, zz, xy, yz, zx] of a symmetric 3 × 3 matrix.
 pub fn stress_components(m: &Mat3) -> [f64; 6] {
-    [m[(0, 0)], m[(1, 1)], m[(2, 2)], 0.5 * (m[(0, 1)] + m[(1, 0)]), 0.5 * (m[(1, 2)] + m[(2, 1)]), 0.5 * (m[(2, 0)] + m[(0, 2)])]
+    [
+        m[(0, 0)],
+        m[(1, 1)],
+        m[(2, 2)],
+        0.5 * (m[(0, 1)] + m[(1, 0)]),
+        0.5 * (m[(1, 2)] + m[(2, 1)]),
+        0.5 * (m[(2, 0)] + m[(0, 2)]),
+    ]
 }
 
 /// Isotropic Hooke's law σ = λ tr(ε) I + 2μ ε.
@@ -111,13 +118,27 @@ mod tests {
             let total: f64 = k.mass.iter().sum();
             assert!((total - 2000.0 * k.volume).abs() < 1e-9 * total);
             // Rigid translation and infinitesimal rotation give zero force.
-            let pos: Vec<Vec3> = sub.nodes.iter().map(|q| mesh.to_global(&(Vec3::new(q[0] as f64, q[1] as f64, q[2] as f64) * 0.5))).collect();
+            let pos: Vec<Vec3> = sub
+                .nodes
+                .iter()
+                .map(|q| mesh.to_global(&(Vec3::new(q[0] as f64, q[1] as f64, q[2] as f64) * 0.5)))
+                .collect();
             for mode in 0..6 {
-                let u: Vec<f64> = pos.iter().flat_map(|p| {
-                    let v = if mode < 3 { let mut t = Vec3::zeros(); t[mode] = 1.0; t } else {
-                        let mut w = Vec3::zeros(); w[mode - 3] = 1.0; w.cross(p) };
-                    [v.x, v.y, v.z]
-                }).collect();
+                let u: Vec<f64> = pos
+                    .iter()
+                    .flat_map(|p| {
+                        let v = if mode < 3 {
+                            let mut t = Vec3::zeros();
+                            t[mode] = 1.0;
+                            t
+                        } else {
+                            let mut w = Vec3::zeros();
+                            w[mode - 3] = 1.0;
+                            w.cross(p)
+                        };
+                        [v.x, v.y, v.z]
+                    })
+                    .collect();
                 let kmax = k.stiffness.iter().fold(0.0f64, |a, b| a.max(b.abs()));
                 for row in 0..3 * n {
                     let f: f64 = (0..3 * n).map(|c| k.stiffness[row * 3 * n + c] * u[c]).sum();

@@ -65,7 +65,12 @@ const NORMAL_TOLERANCE_DEG: f64 = 1.0;
 
 /// ∫_F w_a dA over the ME's boundary faces lying in `region` (every vertex inside) and, when
 /// `normal` is given, facing that way; per node [m²].
-pub fn boundary_face_integrals(covers: &Covers, e: &ManifoldElement, region: &Region, normal: Option<Vec3>) -> Option<Vec<f64>> {
+pub fn boundary_face_integrals(
+    covers: &Covers,
+    e: &ManifoldElement,
+    region: &Region,
+    normal: Option<Vec3>,
+) -> Option<Vec<f64>> {
     let Region::Box { min, max } = region;
     let bb = nmm3d_geom::Aabb { min: Vec3::from(*min), max: Vec3::from(*max) };
     let s2 = covers.mesh.size * covers.mesh.size;
@@ -73,8 +78,12 @@ pub fn boundary_face_integrals(covers: &Covers, e: &ManifoldElement, region: &Re
     let mut total: Option<Vec<f64>> = None;
     let cos_tol = NORMAL_TOLERANCE_DEG.to_radians().cos();
     for f in e.boundary_faces() {
-        let inside = f.vertices.iter().all(|v| bb.contains(&covers.mesh.to_global(&(cell_corner(e.cell) + v)), 1e-9 * covers.mesh.size));
-        let facing = normal.is_none_or(|n| (covers.mesh.rotation * f.area_vector()).normalize().dot(&n.normalize()) >= cos_tol);
+        let inside = f
+            .vertices
+            .iter()
+            .all(|v| bb.contains(&covers.mesh.to_global(&(cell_corner(e.cell) + v)), 1e-9 * covers.mesh.size));
+        let facing =
+            normal.is_none_or(|n| (covers.mesh.rotation * f.area_vector()).normalize().dot(&n.normalize()) >= cos_tol);
         if !inside || !facing {
             continue;
         }

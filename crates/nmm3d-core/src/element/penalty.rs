@@ -54,5 +54,10 @@ pub fn boundary_vertices_in(covers: &Covers, region: &Region, weld: f64) -> Vec<
 /// A constraint at `x` held by ME `element`.
 pub fn point_constraint(covers: &Covers, element: usize, x: Vec3, dirs: &[Axis]) -> PointConstraint {
     let e = &covers.elements[element];
-    PointConstraint { element, weights: weights_at(covers, e, &x), directions: dirs.iter().map(|a| axis_vector(*a)).collect(), position: x }
+    PointConstraint {
+        element,
+        weights: weights_at(covers, e, &x),
+        directions: dirs.iter().map(|a| axis_vector(*a)).collect(),
+        position: x,
+    }
 }

@@ -29,7 +29,16 @@ impl Block {
     pub fn new(body: usize, material: usize, fixed: bool, pieces: Vec<ConvexPolyhedron>) -> Self {
         let volume: f64 = pieces.iter().map(|p| p.volume()).sum();
         let centroid = pieces.iter().map(|p| p.volume() * p.centroid()).sum::<Vec3>() / volume;
-        Self { body, material, fixed, velocity: Vec3::zeros(), angular_velocity: Vec3::zeros(), pieces, volume, centroid }
+        Self {
+            body,
+            material,
+            fixed,
+            velocity: Vec3::zeros(),
+            angular_velocity: Vec3::zeros(),
+            pieces,
+            volume,
+            centroid,
+        }
     }
 
     /// Bounding box of all pieces.

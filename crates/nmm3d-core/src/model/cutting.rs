@@ -83,14 +83,26 @@ pub fn joint_features(s: &Scenario) -> Vec<JointFeature> {
     let mut out = Vec::new();
     for js in &s.joint_set {
         let n = orientation::normal_from_dip(js.dip, js.dip_direction);
-        out.push(JointFeature { normal: n, offset: n.dot(&Vec3::from(js.origin)), spacing: Some(js.spacing), bodies: bodies(&js.bodies), joint: joint(&js.joint) });
+        out.push(JointFeature {
+            normal: n,
+            offset: n.dot(&Vec3::from(js.origin)),
+            spacing: Some(js.spacing),
+            bodies: bodies(&js.bodies),
+            joint: joint(&js.joint),
+        });
     }
     for jp in &s.joint_plane {
         let n = match jp.normal {
             Some(v) => Vec3::from(v).normalize(),
             None => orientation::normal_from_dip(jp.dip.unwrap_or(0.0), jp.dip_direction.unwrap_or(0.0)),
         };
-        out.push(JointFeature { normal: n, offset: n.dot(&Vec3::from(jp.point)), spacing: None, bodies: bodies(&jp.bodies), joint: joint(&jp.joint) });
+        out.push(JointFeature {
+            normal: n,
+            offset: n.dot(&Vec3::from(jp.point)),
+            spacing: None,
+            bodies: bodies(&jp.bodies),
+            joint: joint(&jp.joint),
+        });
     }
     out
 }
@@ -102,7 +114,13 @@ pub fn cut(s: &Scenario, initial: Vec<RawBlock>) -> (Vec<RawBlock>, CutReport) {
     for (f, feat) in joint_features(s).iter().enumerate() {
         blocks = blocks
             .into_par_iter()
-            .flat_map_iter(|b| if feat.bodies.contains(&b.body) { regroup(b.body, cut_by_feature(b.pieces, feat, f)) } else { vec![b] })
+            .flat_map_iter(|b| {
+                if feat.bodies.contains(&b.body) {
+                    regroup(b.body, cut_by_feature(b.pieces, feat, f))
+                } else {
+                    vec![b]
+                }
+            })
             .collect();
     }
     for (e, ex) in s.excavation.iter().enumerate() {
@@ -340,7 +358,9 @@ impl BoxGrid {
 }
 
 fn shared_area(a: &RawBlock, b: &RawBlock, size: f64) -> f64 {
-    let boundary = |r: &RawBlock| r.pieces.iter().flat_map(|p| p.faces.iter()).filter(|f| tags::is_boundary(f.tag)).cloned().collect::<Vec<_>>();
+    let boundary = |r: &RawBlock| {
+        r.pieces.iter().flat_map(|p| p.faces.iter()).filter(|f| tags::is_boundary(f.tag)).cloned().collect::<Vec<_>>()
+    };
     let (fa, fb) = (boundary(a), boundary(b));
     fa.iter().flat_map(|x| fb.iter().map(move |y| (x, y))).map(|(x, y)| overlap_area(x, y, size)).sum()
 }
@@ -349,8 +369,10 @@ fn shared_area(a: &RawBlock, b: &RawBlock, size: f64) -> f64 {
 /// part of them is shared).
 fn glue_together(target: &mut RawBlock, mut sliver: RawBlock, size: f64) {
     let eps = 1e-12 * size;
-    let others: Vec<Face> = sliver.pieces.iter().flat_map(|p| p.faces.iter()).filter(|f| tags::is_boundary(f.tag)).cloned().collect();
-    let mine: Vec<Face> = target.pieces.iter().flat_map(|p| p.faces.iter()).filter(|f| tags::is_boundary(f.tag)).cloned().collect();
+    let others: Vec<Face> =
+        sliver.pieces.iter().flat_map(|p| p.faces.iter()).filter(|f| tags::is_boundary(f.tag)).cloned().collect();
+    let mine: Vec<Face> =
+        target.pieces.iter().flat_map(|p| p.faces.iter()).filter(|f| tags::is_boundary(f.tag)).cloned().collect();
     for p in &mut target.pieces {
         p.faces = p.faces.drain(..).flat_map(|f| split_shared(f, &others, eps, size)).collect();
     }

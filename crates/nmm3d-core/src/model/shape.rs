@@ -27,18 +27,29 @@ pub fn shape_to_pieces(shape: &Shape) -> Result<Vec<ConvexPolyhedron>, ShapeErro
         Shape::Convex { planes, faces } => {
             let mut ps = Vec::with_capacity(planes.len() + faces.len());
             for (k, c) in planes.iter().enumerate() {
-                ps.push(Plane::from_coefficients(*c).ok_or_else(|| geom(".convex.planes", GeomError::ZeroNormal { index: k }))?);
+                ps.push(
+                    Plane::from_coefficients(*c)
+                        .ok_or_else(|| geom(".convex.planes", GeomError::ZeroNormal { index: k }))?,
+                );
             }
             for (k, f) in faces.iter().enumerate() {
-                if !(0.0..=90.0).contains(&f.dip) || !f.dip_direction.is_finite() || !f.point.iter().all(|x| x.is_finite()) {
+                if !(0.0..=90.0).contains(&f.dip)
+                    || !f.dip_direction.is_finite()
+                    || !f.point.iter().all(|x| x.is_finite())
+                {
                     return Err((format!(".convex.faces[{k}]"), format!("dip must lie in [0, 90] and dip_direction and point be finite, got dip {}, dip_direction {}", f.dip, f.dip_direction)));
                 }
-                ps.push(Plane::from_coefficients(f.half_space()).ok_or_else(|| geom(".convex.faces", GeomError::ZeroNormal { index: ps.len() }))?);
+                ps.push(
+                    Plane::from_coefficients(f.half_space())
+                        .ok_or_else(|| geom(".convex.faces", GeomError::ZeroNormal { index: ps.len() }))?,
+                );
             }
             let sub = if faces.is_empty() { ".convex.planes" } else { ".convex" };
             ConvexPolyhedron::from_planes(&ps).map(|p| vec![p]).map_err(|e| geom(sub, e))
         }
-        Shape::Polyhedron { vertices, faces } => polyhedron(vertices, faces).map_err(|(s, r)| (format!(".polyhedron{s}"), r)),
+        Shape::Polyhedron { vertices, faces } => {
+            polyhedron(vertices, faces).map_err(|(s, r)| (format!(".polyhedron{s}"), r))
+        }
         Shape::Prism { polygon, z } => prism(polygon, *z).map_err(|r| (".prism".to_string(), r)),
         Shape::Tunnel(t) => tunnel_polyhedron(t).map(|p| vec![p]).map_err(|r| (".tunnel".to_string(), r)),
     }
@@ -48,11 +59,17 @@ fn polyhedron(vertices: &[[f64; 3]], faces: &[Vec<usize>]) -> Result<Vec<ConvexP
     let vs: Vec<Vec3> = vertices.iter().map(|v| Vec3::from(*v)).collect();
     check_closed(&vs, faces).map_err(|e| (String::new(), e.to_string()))?;
     let signed: f64 = ConvexPolyhedron {
-        faces: faces.iter().map(|f| Face { vertices: f.iter().map(|&i| vs[i]).collect(), tag: tags::body_face(0) }).collect(),
+        faces: faces
+            .iter()
+            .map(|f| Face { vertices: f.iter().map(|&i| vs[i]).collect(), tag: tags::body_face(0) })
+            .collect(),
     }
     .volume();
     if signed < 0.0 {
-        return Err((".faces".into(), "the faces are oriented inwards: list each face's vertices counter-clockwise seen from outside".into()));
+        return Err((
+            ".faces".into(),
+            "the faces are oriented inwards: list each face's vertices counter-clockwise seen from outside".into(),
+        ));
     }
     match ConvexPolyhedron::from_vertices_faces(&vs, faces) {
         Ok(p) => Ok(vec![p]),
@@ -64,7 +81,10 @@ fn polyhedron(vertices: &[[f64; 3]], faces: &[Vec<usize>]) -> Result<Vec<ConvexP
                 .collect();
             let vol: f64 = ConvexPolyhedron { faces: fs.clone() }.volume();
             if !(vol > 0.0) {
-                return Err((String::new(), "the faces are oriented inwards (they must be counter-clockwise seen from outside)".into()));
+                return Err((
+                    String::new(),
+                    "the faces are oriented inwards (they must be counter-clockwise seen from outside)".into(),
+                ));
             }
             let pieces = convex_pieces(&fs, NewFaceTags { glue: tags::GLUE });
             check_volume(&pieces, vol).map_err(|r| (String::new(), r))?;
@@ -77,7 +97,9 @@ fn polyhedron(vertices: &[[f64; 3]], faces: &[Vec<usize>]) -> Result<Vec<ConvexP
 fn check_volume(pieces: &[ConvexPolyhedron], expected: f64) -> Result<(), String> {
     let got: f64 = pieces.iter().map(|p| p.volume()).sum();
     if (got - expected).abs() > 1e-9 * expected {
-        return Err(format!("the solid could not be decomposed (volume {got} instead of {expected}): is it self-intersecting?"));
+        return Err(format!(
+            "the solid could not be decomposed (volume {got} instead of {expected}): is it self-intersecting?"
+        ));
     }
     Ok(())
 }
@@ -93,10 +115,12 @@ fn prism(polygon: &[[f64; 2]], z: [f64; 2]) -> Result<Vec<ConvexPolyhedron>, Str
         return Err(format!("the polygon is not simple: edges {i} and {j} cross"));
     }
     let n = polygon.len();
-    let area2: f64 = (0..n).map(|i| {
-        let (a, b) = (polygon[i], polygon[(i + 1) % n]);
-        a[0] * b[1] - a[1] * b[0]
-    }).sum();
+    let area2: f64 = (0..n)
+        .map(|i| {
+            let (a, b) = (polygon[i], polygon[(i + 1) % n]);
+            a[0] * b[1] - a[1] * b[0]
+        })
+        .sum();
     if area2.abs() <= 1e-14 {
         return Err("the polygon has no area".into());
     }
@@ -107,7 +131,10 @@ fn prism(polygon: &[[f64; 2]], z: [f64; 2]) -> Result<Vec<ConvexPolyhedron>, Str
         Face { vertices: (0..n).map(|i| v(i, z[1])).collect(), tag: tags::body_face(1) },
     ];
     for i in 0..n {
-        faces.push(Face { vertices: vec![v(i, z[0]), v(i + 1, z[0]), v(i + 1, z[1]), v(i, z[1])], tag: tags::body_face(2 + i) });
+        faces.push(Face {
+            vertices: vec![v(i, z[0]), v(i + 1, z[0]), v(i + 1, z[1]), v(i, z[1])],
+            tag: tags::body_face(2 + i),
+        });
     }
     let convex = (0..n).all(|i| {
         let (a, b, c) = (ccw[i], ccw[(i + 1) % n], ccw[(i + 2) % n]);
@@ -115,7 +142,10 @@ fn prism(polygon: &[[f64; 2]], z: [f64; 2]) -> Result<Vec<ConvexPolyhedron>, Str
     });
     let vol = 0.5 * area2.abs() * (z[1] - z[0]);
     if convex {
-        let planes: Vec<Plane> = faces.iter().map(|f| Plane::from_point_normal(f.vertices[0], f.area_vector()).expect("non-degenerate")).collect();
+        let planes: Vec<Plane> = faces
+            .iter()
+            .map(|f| Plane::from_point_normal(f.vertices[0], f.area_vector()).expect("non-degenerate"))
+            .collect();
         let mut p = ConvexPolyhedron::from_planes(&planes).map_err(|e| e.to_string())?;
         p.faces.iter_mut().enumerate().for_each(|(k, f)| f.tag = tags::body_face(k));
         return Ok(vec![p]);
@@ -158,6 +188,8 @@ mod tests {
         assert!(pieces.len() > 1);
         let reversed: Vec<[f64; 2]> = l.iter().rev().copied().collect();
         assert!((prism(&reversed, [0.0, 1.0]).unwrap().iter().map(|p| p.volume()).sum::<f64>() - 3.0).abs() < 1e-12);
-        assert!(prism(&[[0.0, 0.0], [1.0, 1.0], [1.0, 0.0], [0.0, 1.0]], [0.0, 1.0]).unwrap_err().contains("not simple"));
+        assert!(prism(&[[0.0, 0.0], [1.0, 1.0], [1.0, 0.0], [0.0, 1.0]], [0.0, 1.0])
+            .unwrap_err()
+            .contains("not simple"));
     }
 }

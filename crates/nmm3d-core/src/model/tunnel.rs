@@ -34,10 +34,12 @@ pub fn profile(t: &Tunnel) -> Result<Vec<[f64; 2]>, String> {
         "circular" => {
             let r = pos("radius", t.radius)?;
             let n = segments(t, CIRCLE_SEGMENTS)?;
-            Ok((0..n).map(|i| {
-                let a = -std::f64::consts::FRAC_PI_2 + 2.0 * std::f64::consts::PI * i as f64 / n as f64;
-                [r * a.cos(), r * a.sin()]
-            }).collect())
+            Ok((0..n)
+                .map(|i| {
+                    let a = -std::f64::consts::FRAC_PI_2 + 2.0 * std::f64::consts::PI * i as f64 / n as f64;
+                    [r * a.cos(), r * a.sin()]
+                })
+                .collect())
         }
         "horseshoe" => {
             let (w, h) = (pos("width", t.width)?, pos("height", t.height)?);
@@ -90,7 +92,8 @@ pub fn tunnel_polyhedron(t: &Tunnel) -> Result<ConvexPolyhedron, String> {
     let (a, side, up) = frame(t)?;
     let (s, e) = (Vec3::from(t.start), Vec3::from(t.end));
     let point = |q: &[f64; 2]| s + side * q[0] + up * q[1];
-    let mut planes = vec![Plane::from_point_normal(s, -a).expect("unit"), Plane::from_point_normal(e, a).expect("unit")];
+    let mut planes =
+        vec![Plane::from_point_normal(s, -a).expect("unit"), Plane::from_point_normal(e, a).expect("unit")];
     let n = prof.len();
     for i in 0..n {
         let (p0, p1) = (point(&prof[i]), point(&prof[(i + 1) % n]));
@@ -105,8 +108,11 @@ pub fn tunnel_polyhedron(t: &Tunnel) -> Result<ConvexPolyhedron, String> {
 /// Area of the profile polygon [m²].
 pub fn profile_area(t: &Tunnel) -> Result<f64, String> {
     let p = profile(t)?;
-    Ok(0.5 * (0..p.len()).map(|i| {
-        let (a, b) = (p[i], p[(i + 1) % p.len()]);
-        a[0] * b[1] - a[1] * b[0]
-    }).sum::<f64>())
+    Ok(0.5
+        * (0..p.len())
+            .map(|i| {
+                let (a, b) = (p[i], p[(i + 1) % p.len()]);
+                a[0] * b[1] - a[1] * b[0]
+            })
+            .sum::<f64>())
 }

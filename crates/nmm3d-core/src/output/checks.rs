@@ -26,7 +26,13 @@ mod tests {
     use super::*;
 
     fn expect(reference: f64, tolerance: f64, absolute_tolerance: f64) -> Expect {
-        Expect { quantity: "tip.displacement.z".into(), reference, tolerance, absolute_tolerance, source: String::new() }
+        Expect {
+            quantity: "tip.displacement.z".into(),
+            reference,
+            tolerance,
+            absolute_tolerance,
+            source: String::new(),
+        }
     }
 
     fn last(v: f64) -> Map<String, Value> {

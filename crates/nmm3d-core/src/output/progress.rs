@@ -49,7 +49,15 @@ pub struct Progress {
 impl Progress {
     /// Progress from the state the stepping starts at.
     pub fn new(mode: ProgressMode, state: &State) -> Self {
-        Self { mode, start: Instant::now(), last_line: None, recent: VecDeque::new(), estimated: false, warned_collapse: false, t0: state.time }
+        Self {
+            mode,
+            start: Instant::now(),
+            last_line: None,
+            recent: VecDeque::new(),
+            estimated: false,
+            warned_collapse: false,
+            t0: state.time,
+        }
     }
 
     /// After each accepted step.
@@ -90,14 +98,24 @@ impl Progress {
     /// Messages printed once on their own line.
     fn note(&self, text: &str) {
         let mut err = std::io::stderr().lock();
-        let _ = if self.mode == ProgressMode::Terminal { writeln!(err, "\r{text}\x1b[K") } else { writeln!(err, "{text}") };
+        let _ =
+            if self.mode == ProgressMode::Terminal { writeln!(err, "\r{text}\x1b[K") } else { writeln!(err, "{text}") };
     }
 
     fn notes(&mut self, a: &Analysis, state: &State, report: &StepReport, wall: f64) {
-        if !self.estimated && a.kind == AnalysisKind::Dynamic && wall >= ESTIMATE_AFTER_SECONDS && state.step >= ESTIMATE_AFTER_STEPS {
+        if !self.estimated
+            && a.kind == AnalysisKind::Dynamic
+            && wall >= ESTIMATE_AFTER_SECONDS
+            && state.step >= ESTIMATE_AFTER_STEPS
+        {
             self.estimated = true;
             if let Some(left) = self.remaining(a, state, wall) {
-                self.note(&format!("  estimate: {} more at the current rate (Δt = {:.3e} s, {:.0} steps/s)", duration(left), report.dt, self.steps_per_second()));
+                self.note(&format!(
+                    "  estimate: {} more at the current rate (Δt = {:.3e} s, {:.0} steps/s)",
+                    duration(left),
+                    report.dt,
+                    self.steps_per_second()
+                ));
             }
         }
         if !self.warned_collapse && report.dt < COLLAPSED_DT_RATIO * a.dt {
@@ -118,7 +136,9 @@ impl Progress {
                 let eta = self.remaining(a, state, wall).map_or_else(|| "–".to_string(), duration);
                 format!("{pct:5.1} %  t = {:.6} s  ETA {eta}", state.time)
             }
-            AnalysisKind::Static => format!("static  unbalanced {:.3e} (target {:.1e})", report.unbalanced, a.equilibrium_tolerance),
+            AnalysisKind::Static => {
+                format!("static  unbalanced {:.3e} (target {:.1e})", report.unbalanced, a.equilibrium_tolerance)
+            }
         };
         format!(
             "  {head}  step {}  Δt = {:.3e} s  unbalanced {:.2e}  contacts {}  cuts {cuts} in {:.0} s  wall {}",
@@ -140,7 +160,11 @@ impl Progress {
 
     fn steps_per_second(&self) -> f64 {
         let span = self.window();
-        if span > 0.0 { (self.recent.len() - 1) as f64 / span } else { 0.0 }
+        if span > 0.0 {
+            (self.recent.len() - 1) as f64 / span
+        } else {
+            0.0
+        }
     }
 
     fn window(&self) -> f64 {

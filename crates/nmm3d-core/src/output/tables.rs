@@ -14,17 +14,34 @@ pub fn write_blocks(sys: &System, dir: &Path) -> Result<()> {
 }
 
 /// `blocks.csv` of a geometry.
-pub fn write_block_rows(scenario: &crate::scenario::Scenario, geometry: &crate::model::Geometry, dir: &Path) -> Result<()> {
+pub fn write_block_rows(
+    scenario: &crate::scenario::Scenario,
+    geometry: &crate::model::Geometry,
+    dir: &Path,
+) -> Result<()> {
     let mut s = String::from("id,body,volume,centroid_x,centroid_y,centroid_z,fixed\n");
     for (i, b) in geometry.blocks.iter().enumerate() {
         let body = &scenario.body[b.body].name;
-        let _ = writeln!(s, "{i},{},{},{},{},{},{}", csv_text(body), b.volume, b.centroid.x, b.centroid.y, b.centroid.z, b.fixed);
+        let _ = writeln!(
+            s,
+            "{i},{},{},{},{},{},{}",
+            csv_text(body),
+            b.volume,
+            b.centroid.x,
+            b.centroid.y,
+            b.centroid.z,
+            b.fixed
+        );
     }
     atomic::write(&dir.join("blocks.csv"), s.as_bytes())
 }
 
 fn csv_text(t: &str) -> String {
-    if t.contains([',', '"', '\n']) { format!("\"{}\"", t.replace('"', "\"\"")) } else { t.to_string() }
+    if t.contains([',', '"', '\n']) {
+        format!("\"{}\"", t.replace('"', "\"\""))
+    } else {
+        t.to_string()
+    }
 }
 
 /// The monitored history, kept in memory and written atomically.
@@ -70,7 +87,21 @@ pub fn write_diagnostics(dir: &Path, rows: &[(f64, u64, crate::time::StepReport)
     );
     for (t, step, r) in rows {
         let e = &r.energy;
-        let _ = writeln!(s, "{t},{step},{},{},{},{},{},{},{},{},{},{},{}", r.dt, r.cuts, r.ratio, r.unbalanced, e.kinetic, e.elastic, e.external_work, e.contact, e.friction, e.numerical, e.error());
+        let _ = writeln!(
+            s,
+            "{t},{step},{},{},{},{},{},{},{},{},{},{},{}",
+            r.dt,
+            r.cuts,
+            r.ratio,
+            r.unbalanced,
+            e.kinetic,
+            e.elastic,
+            e.external_work,
+            e.contact,
+            e.friction,
+            e.numerical,
+            e.error()
+        );
     }
     atomic::write(&dir.join("diagnostics.csv"), s.as_bytes())
 }

@@ -17,11 +17,11 @@ use nmm3d_geom::{ConvexPolyhedron, Vec3};
 use super::atomic;
 use crate::contact::ContactRecord;
 use crate::element::kernel::stress_components;
-use nmm3d_geom::contact::Mode;
 use crate::error::Result;
 use crate::state::State;
 use crate::system::System;
 use crate::time::corotation;
+use nmm3d_geom::contact::Mode;
 
 const VTK_VERTEX: u8 = 1;
 const VTK_POLYHEDRON: u8 = 42;
@@ -50,7 +50,12 @@ struct Cells {
 impl Cells {
     /// Add a polyhedron; each distinct vertex is keyed by `key` and, when new, placed by
     /// `place`. Returns the vertices (own coordinates) that created new points, in point order.
-    fn push(&mut self, poly: &ConvexPolyhedron, key: impl Fn(&Vec3) -> [i64; 4], place: impl Fn(&Vec3) -> Vec3) -> Vec<Vec3> {
+    fn push(
+        &mut self,
+        poly: &ConvexPolyhedron,
+        key: impl Fn(&Vec3) -> [i64; 4],
+        place: impl Fn(&Vec3) -> Vec3,
+    ) -> Vec<Vec3> {
         let verts = poly.vertices();
         let mut created = Vec::new();
         let ids: Vec<i32> = verts
@@ -90,7 +95,14 @@ impl Cells {
         order
     }
 
-    fn write(&self, order: &[usize], bin: &mut Appended, field_data: &str, point_data: &str, cell_data: &str) -> Vec<u8> {
+    fn write(
+        &self,
+        order: &[usize],
+        bin: &mut Appended,
+        field_data: &str,
+        point_data: &str,
+        cell_data: &str,
+    ) -> Vec<u8> {
         let (mut conn, mut offsets, mut faces, mut face_offsets) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         for &i in order {
             conn.extend(&self.cells[i].0);
@@ -125,11 +137,23 @@ struct Appended {
 }
 
 impl Appended {
-    fn declare(&mut self, s: &mut String, ty: &str, name: &str, comps: usize, bytes: impl Iterator<Item = u8>, len: usize) {
+    fn declare(
+        &mut self,
+        s: &mut String,
+        ty: &str,
+        name: &str,
+        comps: usize,
+        bytes: impl Iterator<Item = u8>,
+        len: usize,
+    ) {
         // One component is VTK's default; leaving it out keeps meshio's arrays one-dimensional
         // (it reshapes by NumberOfComponents, and a (n, 1) `faces` array breaks its reader).
         let comps = if comps == 1 { String::new() } else { format!(" NumberOfComponents=\"{comps}\"") };
-        let _ = writeln!(s, "<DataArray type=\"{ty}\" Name=\"{name}\"{comps} format=\"appended\" offset=\"{}\"/>", self.data.len());
+        let _ = writeln!(
+            s,
+            "<DataArray type=\"{ty}\" Name=\"{name}\"{comps} format=\"appended\" offset=\"{}\"/>",
+            self.data.len()
+        );
         self.data.extend_from_slice(&(len as u64).to_le_bytes());
         self.data.extend(bytes);
     }
@@ -159,7 +183,9 @@ pub fn write_frame(sys: &System, state: &State, path: &Path) -> Result<()> {
     let (mut block_id, mut element_id, mut stress) = (Vec::new(), Vec::new(), Vec::new());
     for (e, me) in sys.covers.elements.iter().enumerate() {
         let w = sys.covers.weights(me);
-        let interpolate = |xi: &Vec3, f: &dyn Fn(usize) -> Vec3| -> Vec3 { me.covers.iter().zip(w).map(|(&c, wa)| wa.eval(xi) * f(c)).sum() };
+        let interpolate = |xi: &Vec3, f: &dyn Fn(usize) -> Vec3| -> Vec3 {
+            me.covers.iter().zip(w).map(|(&c, wa)| wa.eval(xi) * f(c)).sum()
+        };
         let corner = crate::cover::build::cell_corner(me.cell);
         let key = |xi: &Vec3| point_key(me.block, &sys.covers.mesh.to_global(&(corner + xi)), quantum);
         let sigma = stress_components(&corotation::element_stress(sys, state, e));
@@ -258,7 +284,9 @@ pub fn write_blocks(geometry: &crate::model::Geometry, path: &Path) -> Result<()
 /// Field data of every file: the time. Numbers only — meshio rejects `String` arrays (the
 /// stress sign convention is in `summary.json` and the docs).
 fn field_data(time: f64) -> String {
-    format!("\n<DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" format=\"ascii\">{time}</DataArray>\n")
+    format!(
+        "\n<DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" format=\"ascii\">{time}</DataArray>\n"
+    )
 }
 
 /// Write the `.pvd` collection of frames: (time, blocks file, contacts file) — part 0 the

@@ -27,9 +27,8 @@ pub fn from_toml_str(text: &str, label: &str, overrides: &[String]) -> Result<Sc
     for o in overrides {
         overrides::apply(&mut value, o).map_err(|(path, reason)| Error::input(label, path, reason))?;
     }
-    let scenario: Scenario = serde_path_to_error::deserialize(value).map_err(|e| {
-        Error::input(label, e.path().to_string(), e.inner().message().to_string())
-    })?;
+    let scenario: Scenario = serde_path_to_error::deserialize(value)
+        .map_err(|e| Error::input(label, e.path().to_string(), e.inner().message().to_string()))?;
     validate(&scenario, label)?;
     Ok(scenario)
 }

@@ -4,9 +4,8 @@
 
 /// Apply one override; on failure return (key path, reason).
 pub fn apply(root: &mut toml::Value, spec: &str) -> Result<(), (String, String)> {
-    let (key, raw) = spec
-        .split_once('=')
-        .ok_or_else(|| (spec.to_string(), "an override must look like KEY=VALUE".to_string()))?;
+    let (key, raw) =
+        spec.split_once('=').ok_or_else(|| (spec.to_string(), "an override must look like KEY=VALUE".to_string()))?;
     let key = key.trim();
     let value = parse_value(raw.trim());
     let parts: Vec<&str> = key.split('.').collect();

@@ -294,7 +294,13 @@ pub struct CoverSpec {
 
 impl Default for CoverSpec {
     fn default() -> Self {
-        Self { pattern: PatternKind::Tet6, size: None, origin: [0.0; 3], rotation: [0.0; 3], aggregation_threshold: 0.1 }
+        Self {
+            pattern: PatternKind::Tet6,
+            size: None,
+            origin: [0.0; 3],
+            rotation: [0.0; 3],
+            aggregation_threshold: 0.1,
+        }
     }
 }
 
@@ -316,7 +322,12 @@ pub struct ContactSpec {
 
 impl Default for ContactSpec {
     fn default() -> Self {
-        Self { enabled: true, normal_stiffness: Stiffness::Auto, shear_stiffness: Stiffness::Auto, max_penetration_ratio: 0.01 }
+        Self {
+            enabled: true,
+            normal_stiffness: Stiffness::Auto,
+            shear_stiffness: Stiffness::Auto,
+            max_penetration_ratio: 0.01,
+        }
     }
 }
 

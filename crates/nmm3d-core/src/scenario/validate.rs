@@ -42,7 +42,10 @@ pub fn validate(s: &Scenario, file: &str) -> Result<()> {
     if !(0.0..1.0).contains(&s.cover.aggregation_threshold) {
         c.fail("cover.aggregation_threshold", "must lie in [0, 1)");
     }
-    for (k, v) in [("contact.normal_stiffness", s.contact.normal_stiffness), ("contact.shear_stiffness", s.contact.shear_stiffness)] {
+    for (k, v) in [
+        ("contact.normal_stiffness", s.contact.normal_stiffness),
+        ("contact.shear_stiffness", s.contact.shear_stiffness),
+    ] {
         if let Stiffness::Value(x) = v {
             c.positive(k, x);
         }
@@ -140,11 +143,17 @@ fn joints(c: &mut Checker, s: &Scenario) {
         }
         for (key, k) in [("normal_stiffness", j.normal_stiffness), ("shear_stiffness", j.shear_stiffness)] {
             if k.is_some_and(|k| !(k > 0.0 && k.is_finite())) {
-                c.fail(format!("{p}.{key}"), format!("must be a positive stiffness per unit area in Pa/m, got {}", k.unwrap_or_default()));
+                c.fail(
+                    format!("{p}.{key}"),
+                    format!("must be a positive stiffness per unit area in Pa/m, got {}", k.unwrap_or_default()),
+                );
             }
         }
         if j.shear_stiffness.is_some() && j.normal_stiffness.is_none() {
-            c.fail(format!("{p}.shear_stiffness"), "needs normal_stiffness on the same joint (a joint's stiffness is given whole, in Pa/m)");
+            c.fail(
+                format!("{p}.shear_stiffness"),
+                "needs normal_stiffness on the same joint (a joint's stiffness is given whole, in Pa/m)",
+            );
         }
     }
 }
@@ -203,7 +212,9 @@ fn cutting(c: &mut Checker, s: &Scenario) {
     for (k, jp) in s.joint_plane.iter().enumerate() {
         let p = format!("joint_plane[{k}]");
         match (jp.dip, jp.dip_direction, jp.normal) {
-            (Some(d), Some(_), None) if !(0.0..=90.0).contains(&d) => c.fail(format!("{p}.dip"), format!("must lie in [0, 90], got {d}")),
+            (Some(d), Some(_), None) if !(0.0..=90.0).contains(&d) => {
+                c.fail(format!("{p}.dip"), format!("must lie in [0, 90], got {d}"))
+            }
             (Some(_), Some(_), None) => {}
             (None, None, Some(n)) if n.iter().map(|x| x * x).sum::<f64>() > 0.0 => {}
             (None, None, Some(_)) => c.fail(format!("{p}.normal"), "must be a non-zero vector"),
@@ -280,12 +291,19 @@ fn expectations(c: &mut Checker, s: &Scenario) {
     let columns: HashSet<String> = s
         .monitor
         .iter()
-        .flat_map(|m| m.quantities.iter().flat_map(move |q| q.components().iter().map(move |k| format!("{}.{}.{k}", m.name, q.name()))))
+        .flat_map(|m| {
+            m.quantities
+                .iter()
+                .flat_map(move |q| q.components().iter().map(move |k| format!("{}.{}.{k}", m.name, q.name())))
+        })
         .collect();
     for (i, e) in s.expect.iter().enumerate() {
         let p = format!("expect[{i}]");
         if !columns.contains(&e.quantity) {
-            c.fail(format!("{p}.quantity"), format!("'{}' is not a monitored column (<monitor>.<quantity>.<component>)", e.quantity));
+            c.fail(
+                format!("{p}.quantity"),
+                format!("'{}' is not a monitored column (<monitor>.<quantity>.<component>)", e.quantity),
+            );
         }
         if !e.reference.is_finite() {
             c.fail(format!("{p}.reference"), "must be a finite number");

@@ -8,7 +8,9 @@ use std::time::Instant;
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::perm::PermRef;
-use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering};
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
+};
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
@@ -58,7 +60,10 @@ impl FaerCholesky {
         // cliques, so supernodes of three columns and more always exist. faer's flop-ratio rule
         // picks the simplicial kernel for fill-free contact systems, which measured 2–3× slower
         // (dominos: 11 s → 4 s of factorisation; pile of 3000 blocks: 9.5 s → 4.3 s).
-        let params = CholeskySymbolicParams { supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL, ..Default::default() };
+        let params = CholeskySymbolicParams {
+            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+            ..Default::default()
+        };
         let s = factorize_symbolic_cholesky(sym, Side::Lower, ord, params).map_err(|e| format!("{e:?}"))?;
         self.values = vec![0.0; s.len_val()];
         self.scratch = Some(MemBuffer::new(s.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())));

@@ -104,9 +104,15 @@ mod tests {
         for k in 0..nz {
             for j in 0..ny {
                 for i in 0..nx {
-                    if i + 1 < nx { cliques.push(vec![id(i, j, k), id(i + 1, j, k)]); }
-                    if j + 1 < ny { cliques.push(vec![id(i, j, k), id(i, j + 1, k)]); }
-                    if k + 1 < nz { cliques.push(vec![id(i, j, k), id(i, j, k + 1)]); }
+                    if i + 1 < nx {
+                        cliques.push(vec![id(i, j, k), id(i + 1, j, k)]);
+                    }
+                    if j + 1 < ny {
+                        cliques.push(vec![id(i, j, k), id(i, j + 1, k)]);
+                    }
+                    if k + 1 < nz {
+                        cliques.push(vec![id(i, j, k), id(i, j, k + 1)]);
+                    }
                 }
             }
         }

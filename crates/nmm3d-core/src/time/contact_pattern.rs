@@ -95,7 +95,8 @@ impl ContactPattern {
 
     /// What rebuilds this pattern exactly (checkpoints): its pairs and their last closing steps.
     pub fn snapshot(&self) -> PatternSnapshot {
-        let mut pairs: Vec<(usize, usize)> = self.grown.as_ref().map(|g| g.couplings.keys().copied().collect()).unwrap_or_default();
+        let mut pairs: Vec<(usize, usize)> =
+            self.grown.as_ref().map(|g| g.couplings.keys().copied().collect()).unwrap_or_default();
         pairs.sort_unstable();
         let mut last_closed: Vec<((usize, usize), u64)> = self.last_closed.iter().map(|(&p, &s)| (p, s)).collect();
         last_closed.sort_unstable();

@@ -23,7 +23,8 @@ const POLAR_MAX_ITER: usize = 100;
 pub fn deformation_gradient(sys: &System, state: &State, e: usize) -> Mat3 {
     let k = sys.kernel(e);
     // Σ X_a ⊗ ḡ_a = I exactly (linear reproduction), so F = I + Σ u_a ⊗ ḡ_a.
-    let du: Mat3 = sys.covers.elements[e].covers.iter().zip(&k.mean_gradient).map(|(&c, g)| state.u[c] * g.transpose()).sum();
+    let du: Mat3 =
+        sys.covers.elements[e].covers.iter().zip(&k.mean_gradient).map(|(&c, g)| state.u[c] * g.transpose()).sum();
     Mat3::identity() + du
 }
 
@@ -38,7 +39,11 @@ pub fn local_displacements(sys: &System, state: &State, e: usize, r: &Mat3) -> V
     // Rᵀ(X + u) − X = (Rᵀ − I) X + Rᵀ u, which keeps small strains exact far from the origin.
     let rt = r.transpose();
     let rt_minus_i = rt - Mat3::identity();
-    sys.covers.elements[e].covers.iter().map(|&c| rt_minus_i * sys.covers.covers[c].position + rt * state.u[c]).collect()
+    sys.covers.elements[e]
+        .covers
+        .iter()
+        .map(|&c| rt_minus_i * sys.covers.covers[c].position + rt * state.u[c])
+        .collect()
 }
 
 /// Volume-mean Cauchy stress of ME `e` in global axes [Pa], compression negative.

@@ -61,12 +61,15 @@ impl Energy {
 
     /// Balance error: energy put in minus energy accounted for [J].
     pub fn error(&self) -> f64 {
-        self.initial + self.external_work - (self.kinetic + self.elastic + self.contact + self.friction + self.numerical)
+        self.initial + self.external_work
+            - (self.kinetic + self.elastic + self.contact + self.friction + self.numerical)
     }
 
     /// The largest account in magnitude (the scale of the balance error) [J].
     pub fn largest(&self) -> f64 {
-        [self.kinetic, self.elastic, self.external_work, self.contact, self.friction, self.numerical, self.initial].iter().fold(0.0f64, |m, x| m.max(x.abs()))
+        [self.kinetic, self.elastic, self.external_work, self.contact, self.friction, self.numerical, self.initial]
+            .iter()
+            .fold(0.0f64, |m, x| m.max(x.abs()))
     }
 }
 

@@ -35,7 +35,11 @@ pub fn judge(a: &Analysis, dt: f64, r: f64) -> Verdict {
     if dt > dt_min * (1.0 + 1e-12) {
         return Verdict::Retry((dt * (a.target_displacement_ratio / r).max(MAX_CUT)).max(dt_min));
     }
-    if r <= a.divergence_ratio { Verdict::Accept } else { Verdict::Diverged }
+    if r <= a.divergence_ratio {
+        Verdict::Accept
+    } else {
+        Verdict::Diverged
+    }
 }
 
 /// Judge a trial whose open–close iteration did not settle (or whose contacts overlap too
@@ -43,7 +47,11 @@ pub fn judge(a: &Analysis, dt: f64, r: f64) -> Verdict {
 /// run cannot go on.
 pub fn judge_unsettled(a: &Analysis, dt: f64) -> Verdict {
     let dt_min = a.min_dt_ratio * a.dt;
-    if dt > dt_min * (1.0 + 1e-12) { Verdict::Retry((dt * a.open_close_cut).max(dt_min)) } else { Verdict::Diverged }
+    if dt > dt_min * (1.0 + 1e-12) {
+        Verdict::Retry((dt * a.open_close_cut).max(dt_min))
+    } else {
+        Verdict::Diverged
+    }
 }
 
 /// Step size after an accepted step of size `dt` with ratio `r`.

@@ -141,7 +141,9 @@ impl Stepper {
         self.force_scale = scale(sys, &residual).max(scale(sys, &sys.external));
         if sys.scenario.analysis.kind == AnalysisKind::Dynamic && self.newmark.uses_acceleration() && sys.n_eq() > 0 {
             self.pattern.combine(sys, (0.0, &self.tangent), (1.0, &sys.mass_values), &mut self.values);
-            self.solver.factorize(self.pattern.pattern(sys), &self.values).map_err(|r| Error::Solver { step: 0, reason: r })?;
+            self.solver
+                .factorize(self.pattern.pattern(sys), &self.values)
+                .map_err(|r| Error::Solver { step: 0, reason: r })?;
             let mut rhs = gather(sys, &residual);
             self.solver.solve(&mut rhs);
             scatter_into(sys, &rhs, &mut state.a);
@@ -151,7 +153,11 @@ impl Stepper {
 
     /// Unbalanced force ratio at the current state (static equilibrium measure).
     pub fn unbalanced_ratio(&self, sys: &System, residual: &[Vec3]) -> f64 {
-        if self.force_scale > 0.0 { scale(sys, residual) / self.force_scale } else { 0.0 }
+        if self.force_scale > 0.0 {
+            scale(sys, residual) / self.force_scale
+        } else {
+            0.0
+        }
     }
 
     /// One accepted step (possibly after cuts). `dt_cap` bounds the step (output times, end).
@@ -176,7 +182,11 @@ impl Stepper {
         let mut dt = state.dt.min(dt_cap);
         let (mut cuts, mut trials) = (0, 0);
         loop {
-            let k = if self.inertia { self.newmark.coefficients(dt) } else { StepCoefficients { c0: 0.0, c1: 0.0, c2: 0.0 } };
+            let k = if self.inertia {
+                self.newmark.coefficients(dt)
+            } else {
+                StepCoefficients { c0: 0.0, c1: 0.0, c2: 0.0 }
+            };
             // Every trial starts from the step's start states (the first one has them already).
             trials += 1;
             if let (Some(c), Some(saved), true) = (self.contacts.as_mut(), start_records.as_ref(), trials > 1) {
@@ -188,7 +198,9 @@ impl Stepper {
             // Contacts overlapping beyond the allowed depth: the penalty is too soft for the
             // loads — raise it (×10, at most three times in a run) and repeat the step; after
             // that, cut the step like an unsettled one (an impact in smaller steps overlaps less).
-            let too_deep = self.contacts.as_ref().is_some_and(|c| c.overlap_growing_beyond(sys.scenario.contact.max_penetration_ratio * sys.covers.mesh.size));
+            let too_deep = self.contacts.as_ref().is_some_and(|c| {
+                c.overlap_growing_beyond(sys.scenario.contact.max_penetration_ratio * sys.covers.mesh.size)
+            });
             if too_deep && settled && self.penalty_raises < MAX_PENALTY_RAISES {
                 self.penalty_raises += 1;
                 if let (Some(c), Some(saved)) = (self.contacts.as_mut(), start_records.as_mut()) {
@@ -197,7 +209,11 @@ impl Stepper {
                 }
                 continue;
             }
-            let verdict = if settled && !too_deep { step_control::judge(analysis, dt, ratio) } else { step_control::judge_unsettled(analysis, dt) };
+            let verdict = if settled && !too_deep {
+                step_control::judge(analysis, dt, ratio)
+            } else {
+                step_control::judge_unsettled(analysis, dt)
+            };
             if too_deep && settled && matches!(verdict, Verdict::Retry(_)) {
                 self.penetration_cuts += 1;
             }
@@ -216,8 +232,21 @@ impl Stepper {
                     // M a₀: the scheme's acceleration at the start (the last step's end), except at
                     // the first step, where the unbalanced force stands for it.
                     let m_a0 = if self.energy.is_some() { &ma } else { &start_force };
-                    let energy = self.account(sys, state, &Increment { d: &d, residual: &residual, m_a0, kinetic0, friction, springs });
-                    return Ok(StepReport { dt, cuts, ratio, unbalanced, contacts, open_close: iterations, max_penetration, energy });
+                    let energy = self.account(
+                        sys,
+                        state,
+                        &Increment { d: &d, residual: &residual, m_a0, kinetic0, friction, springs },
+                    );
+                    return Ok(StepReport {
+                        dt,
+                        cuts,
+                        ratio,
+                        unbalanced,
+                        contacts,
+                        open_close: iterations,
+                        max_penetration,
+                        energy,
+                    });
                 }
                 Verdict::Retry(smaller) => {
                     dt = smaller;
@@ -251,7 +280,15 @@ impl Stepper {
         let m_a1 = mass_times(sys, &state.a);
         let kinetic = kinetic_energy(sys, &state.v, &mass_times(sys, &state.v));
         let inertial: f64 = s.d.iter().zip(s.m_a0).zip(&m_a1).map(|((d, a0), a1)| 0.5 * d.dot(&(a0 + a1))).sum();
-        let step = Energy { kinetic, elastic, external_work, contact: s.springs, friction: s.friction, numerical: inertial - (kinetic - s.kinetic0), initial: 0.0 };
+        let step = Energy {
+            kinetic,
+            elastic,
+            external_work,
+            contact: s.springs,
+            friction: s.friction,
+            numerical: inertial - (kinetic - s.kinetic0),
+            initial: 0.0,
+        };
         let energy = self.energy.get_or_insert_with(|| Energy::start(s.kinetic0, 0.0));
         energy.add(&step);
         *energy
@@ -315,7 +352,17 @@ impl Stepper {
 
     /// Solve, update contact states, repeat until no contact changes state.
     #[allow(clippy::too_many_arguments)] // the Newmark coefficients travel together with the vectors they scale
-    fn open_close(&mut self, sys: &System, state: &State, residual: &[Vec3], mv: &[Vec3], ma: &[Vec3], c0: f64, c1: f64, c2: f64) -> Result<(Vec<Vec3>, u32, bool)> {
+    fn open_close(
+        &mut self,
+        sys: &System,
+        state: &State,
+        residual: &[Vec3],
+        mv: &[Vec3],
+        ma: &[Vec3],
+        c0: f64,
+        c1: f64,
+        c2: f64,
+    ) -> Result<(Vec<Vec3>, u32, bool)> {
         let max = sys.scenario.analysis.max_open_close;
         for it in 1..=max {
             let (clock, pattern) = (Instant::now(), self.times.pattern);
@@ -354,7 +401,17 @@ impl Stepper {
     }
 
     #[allow(clippy::too_many_arguments)] // the Newmark coefficients travel together with the vectors they scale
-    fn solve_trial(&mut self, sys: &System, state: &State, residual: &[Vec3], mv: &[Vec3], ma: &[Vec3], c0: f64, c1: f64, c2: f64) -> Result<Vec<Vec3>> {
+    fn solve_trial(
+        &mut self,
+        sys: &System,
+        state: &State,
+        residual: &[Vec3],
+        mv: &[Vec3],
+        ma: &[Vec3],
+        c0: f64,
+        c1: f64,
+        c2: f64,
+    ) -> Result<Vec<Vec3>> {
         let t = Instant::now();
         self.pattern.combine(sys, (1.0, &self.tangent), (c0, &sys.mass_values), &mut self.values);
         let mut contact_force = vec![Vec3::zeros(); residual.len()];
@@ -367,7 +424,8 @@ impl Stepper {
             .map_err(|r| Error::Solver { step: state.step + 1, reason: r })?;
         self.times.factorization += t.elapsed().as_secs_f64();
         let t = Instant::now();
-        let rhs_cover: Vec<Vec3> = (0..residual.len()).map(|c| residual[c] + c1 * mv[c] + c2 * ma[c] + contact_force[c]).collect();
+        let rhs_cover: Vec<Vec3> =
+            (0..residual.len()).map(|c| residual[c] + c1 * mv[c] + c2 * ma[c] + contact_force[c]).collect();
         let mut rhs = gather(sys, &rhs_cover);
         self.solver.solve(&mut rhs);
         let mut d = vec![Vec3::zeros(); residual.len()];

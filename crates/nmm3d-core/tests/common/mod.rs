@@ -20,7 +20,8 @@ pub fn out_dir(name: &str) -> PathBuf {
 
 /// Run and require completion.
 pub fn run_ok(text: &str, name: &str) -> RunOutcome {
-    let out = run(scenario(text), "<test>", &RunOptions { out: out_dir(name), progress: false, ..Default::default() }).unwrap_or_else(|e| panic!("{e}"));
+    let out = run(scenario(text), "<test>", &RunOptions { out: out_dir(name), progress: false, ..Default::default() })
+        .unwrap_or_else(|e| panic!("{e}"));
     assert!(out.completed, "{}", out.summary["message"]);
     out
 }
@@ -28,7 +29,8 @@ pub fn run_ok(text: &str, name: &str) -> RunOutcome {
 /// One column of `history.csv` of the run named `name` (time, values).
 #[allow(dead_code)] // not every test binary reads histories
 pub fn history(name: &str, column: &str) -> Vec<(f64, f64)> {
-    let text = std::fs::read_to_string(PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name).join("history.csv")).expect("history.csv");
+    let text = std::fs::read_to_string(PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name).join("history.csv"))
+        .expect("history.csv");
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().expect("header").split(',').collect();
     let k = header.iter().position(|h| *h == column).unwrap_or_else(|| panic!("no column {column}"));
@@ -95,7 +97,11 @@ pub fn incline_planes(alpha_deg: f64, dip_direction_deg: f64, height: f64) -> (S
     let h = [dd.cos(), -dd.sin(), 0.0];
     let plane = |v: [f64; 3], d: f64| format!("[{}, {}, {}, {}]", v[0], v[1], v[2], d);
     let neg = |v: [f64; 3]| [-v[0], -v[1], -v[2]];
-    let base = [plane(n, 0.0), plane(neg(n), 3.0), plane(s, 4.0), plane(neg(s), 4.0), plane(h, 2.5), plane(neg(h), 2.5)].join(", ");
-    let block = [plane(neg(n), 0.0), plane(n, height), plane(s, 0.5), plane(neg(s), 0.5), plane(h, 0.5), plane(neg(h), 0.5)].join(", ");
+    let base =
+        [plane(n, 0.0), plane(neg(n), 3.0), plane(s, 4.0), plane(neg(s), 4.0), plane(h, 2.5), plane(neg(h), 2.5)]
+            .join(", ");
+    let block =
+        [plane(neg(n), 0.0), plane(n, height), plane(s, 0.5), plane(neg(s), 0.5), plane(h, 0.5), plane(neg(h), 0.5)]
+            .join(", ");
     (base, block)
 }
