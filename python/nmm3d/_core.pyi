@@ -3,8 +3,13 @@
 from os import PathLike
 
 __version__: str
+EXIT_OK: int
+EXIT_FAILED: int
+EXIT_INPUT: int
+EXIT_INTERRUPTED: int
 
-class NmmError(Exception): ...
+class NmmError(Exception):
+    exit_code: int
 class ScenarioError(NmmError): ...
 class RunError(NmmError): ...
 class OutputError(NmmError): ...

@@ -11,7 +11,8 @@ from nmm3d import _core
 from nmm3d.scenario import load
 from nmm3d.units import unit
 
-EXIT_OK, EXIT_FAILED, EXIT_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
+# Defined once, in the native module (nmm3d_core::error::exit).
+EXIT_OK, EXIT_FAILED, EXIT_INPUT, EXIT_INTERRUPTED = _core.EXIT_OK, _core.EXIT_FAILED, _core.EXIT_INPUT, _core.EXIT_INTERRUPTED
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -158,10 +159,10 @@ def main(argv: list[str] | None = None) -> int:
         return handlers[args.command](args)
     except _core.ScenarioError as e:
         print(f"nmm3d: invalid input:\n{e}", file=sys.stderr)
-        return EXIT_INPUT
+        return e.exit_code
     except _core.NmmError as e:
         print(f"nmm3d: {e}", file=sys.stderr)
-        return EXIT_FAILED
+        return e.exit_code
     except KeyboardInterrupt:
         print("nmm3d: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED

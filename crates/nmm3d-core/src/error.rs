@@ -62,11 +62,11 @@ impl Error {
         Error::Scenario { file: file.to_string(), problems: vec![Problem { path: path.into(), reason: reason.into() }] }
     }
 
-    /// CLI exit status: 2 invalid input, 1 the run failed.
+    /// CLI exit status of this error: [`exit::INPUT`] or [`exit::FAILED`].
     pub fn exit_code(&self) -> i32 {
         match self {
-            Error::Scenario { .. } => 2,
-            _ => 1,
+            Error::Scenario { .. } => exit::INPUT,
+            _ => exit::FAILED,
         }
     }
 
@@ -74,6 +74,19 @@ impl Error {
     pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
         Error::Io { path: path.into(), source }
     }
+}
+
+/// The exit statuses of the command line, defined once (the Python CLI reads them from the
+/// native module).
+pub mod exit {
+    /// Done (a study: found or out of range).
+    pub const OK: i32 = 0;
+    /// The run failed (divergence, an unsolvable system, an unwritable output, a defect).
+    pub const FAILED: i32 = 1;
+    /// Invalid input: the message names the file, key path and reason.
+    pub const INPUT: i32 = 2;
+    /// Interrupted (Ctrl-C), as shells report SIGINT: 128 + 2.
+    pub const INTERRUPTED: i32 = 130;
 }
 
 /// Result alias.

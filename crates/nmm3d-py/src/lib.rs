@@ -5,6 +5,7 @@ mod errors;
 
 use std::path::PathBuf;
 
+use nmm3d_core::error::exit;
 use nmm3d_core::scenario;
 use nmm3d_core::simulation::{self, RunOptions, StopRequest};
 use pyo3::prelude::*;
@@ -104,6 +105,20 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("RunError", m.py().get_type::<errors::RunError>())?;
     m.add("OutputError", m.py().get_type::<errors::OutputError>())?;
     m.add("InternalError", m.py().get_type::<errors::InternalError>())?;
+    for (name, code) in
+        [("OK", exit::OK), ("FAILED", exit::FAILED), ("INPUT", exit::INPUT), ("INTERRUPTED", exit::INTERRUPTED)]
+    {
+        m.add(format!("EXIT_{name}").as_str(), code)?;
+    }
+    for (ty, code) in [
+        (m.py().get_type::<errors::NmmError>(), exit::FAILED),
+        (m.py().get_type::<errors::ScenarioError>(), exit::INPUT),
+        (m.py().get_type::<errors::RunError>(), exit::FAILED),
+        (m.py().get_type::<errors::OutputError>(), exit::FAILED),
+        (m.py().get_type::<errors::InternalError>(), exit::FAILED),
+    ] {
+        ty.setattr("exit_code", code)?;
+    }
     errors::keep_panics_quiet();
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
