@@ -8,8 +8,10 @@
 //! | $\mathbf K_e, \mathbf M_e$ | element stiffness and consistent mass | [`element`] |
 //! | $(\mathbf K + \mathbf M/(\beta\Delta t^2))\,\mathbf d = \dots$ | implicit step | [`time`] |
 //!
-//! Layers (each only uses those above it): `scenario` → `model` → `cover` → `element` →
-//! `assembly`, `solver` → `time` → `output` → `checkpoint` → `simulation`.
+//! Layers, lowest first (a module uses only its own layer and those below; the table and its
+//! test are in `ARCHITECTURE.md`): `error` → `scenario` → `model` → `input` → `cover` →
+//! `element` → `assembly` → `solver` → `system` → `state` → `contact` → `time` → `monitor` →
+//! `output` → `checkpoint` → `blocks` → `simulation`.
 #![warn(missing_docs)]
 
 pub mod assembly;
@@ -19,6 +21,7 @@ pub mod contact;
 pub mod cover;
 pub mod element;
 pub mod error;
+pub mod input;
 pub mod model;
 pub mod monitor;
 pub mod output;

@@ -111,23 +111,6 @@ fn distinct_planes(faces: &[Face], size: f64) -> Vec<(Plane, FaceTag)> {
     out
 }
 
-/// The part of a polygon strictly inside the half-space (within `eps`).
-pub fn clip_polygon_to(poly: &[Vec3], plane: &Plane, eps: f64) -> Vec<Vec3> {
-    let n = poly.len();
-    let s: Vec<f64> = poly.iter().map(|v| plane.signed_distance(v)).collect();
-    let mut out = Vec::with_capacity(n + 2);
-    for i in 0..n {
-        let j = (i + 1) % n;
-        if s[i] <= eps {
-            out.push(poly[i]);
-        }
-        if (s[i] < -eps && s[j] > eps) || (s[i] > eps && s[j] < -eps) {
-            out.push(poly[i] + (s[i] / (s[i] - s[j])) * (poly[j] - poly[i]));
-        }
-    }
-    out
-}
-
 /// Faces of a kept cell lying on a face plane of the solid keep their tag if the solid ends
 /// there (the probe beyond the face is outside), else become glue.
 fn retag_sides(mut c: ConvexPolyhedron, inside: impl Fn(&Vec3) -> bool, glue: FaceTag) -> ConvexPolyhedron {

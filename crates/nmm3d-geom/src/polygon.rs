@@ -1,6 +1,7 @@
 //! Planar polygons in 3-D.
 
 use crate::math::Vec3;
+use crate::plane::Plane;
 
 /// Area vector (Newell's method): its direction is the normal by the right-hand rule,
 /// its length the area.
@@ -64,11 +65,9 @@ pub fn dedup_cyclic(points: &mut Vec<Vec3>, tol: f64) {
 
 /// Half-spaces bounding a convex polygon within its plane: for each edge, the plane through it
 /// whose normal points out of the polygon (`normal` is the polygon's unit normal).
-fn edge_planes(poly: &[Vec3], normal: &Vec3) -> Vec<crate::plane::Plane> {
+fn edge_planes(poly: &[Vec3], normal: &Vec3) -> Vec<Plane> {
     let n = poly.len();
-    (0..n)
-        .filter_map(|i| crate::plane::Plane::from_point_normal(poly[i], (poly[(i + 1) % n] - poly[i]).cross(normal)))
-        .collect()
+    (0..n).filter_map(|i| Plane::from_point_normal(poly[i], (poly[(i + 1) % n] - poly[i]).cross(normal))).collect()
 }
 
 /// Intersection of two coplanar convex polygons (as a convex polygon, possibly empty).
@@ -76,7 +75,7 @@ fn edge_planes(poly: &[Vec3], normal: &Vec3) -> Vec<crate::plane::Plane> {
 pub fn intersect_convex(subject: &[Vec3], clip: &[Vec3], normal: &Vec3, eps: f64) -> Vec<Vec3> {
     let mut out = subject.to_vec();
     for p in edge_planes(clip, normal) {
-        out = crate::decompose::clip_polygon_to(&out, &p, eps);
+        out = clip_polygon_to(&out, &p, eps);
         if out.len() < 3 {
             return Vec::new();
         }
@@ -89,13 +88,30 @@ pub fn difference_convex(subject: &[Vec3], clip: &[Vec3], normal: &Vec3, eps: f6
     let mut rest = subject.to_vec();
     let mut out = Vec::new();
     for p in edge_planes(clip, normal) {
-        let outside = crate::decompose::clip_polygon_to(&rest, &p.flipped(), eps);
+        let outside = clip_polygon_to(&rest, &p.flipped(), eps);
         if outside.len() >= 3 && area_vector(&outside).norm() > eps * eps {
             out.push(outside);
         }
-        rest = crate::decompose::clip_polygon_to(&rest, &p, eps);
+        rest = clip_polygon_to(&rest, &p, eps);
         if rest.len() < 3 {
             break;
+        }
+    }
+    out
+}
+
+/// The part of a polygon strictly inside the half-space (within `eps`).
+pub fn clip_polygon_to(poly: &[Vec3], plane: &Plane, eps: f64) -> Vec<Vec3> {
+    let n = poly.len();
+    let s: Vec<f64> = poly.iter().map(|v| plane.signed_distance(v)).collect();
+    let mut out = Vec::with_capacity(n + 2);
+    for i in 0..n {
+        let j = (i + 1) % n;
+        if s[i] <= eps {
+            out.push(poly[i]);
+        }
+        if (s[i] < -eps && s[j] > eps) || (s[i] > eps && s[j] < -eps) {
+            out.push(poly[i] + (s[i] / (s[i] - s[j])) * (poly[j] - poly[i]));
         }
     }
     out

@@ -6,8 +6,8 @@ mod errors;
 use std::path::PathBuf;
 
 use nmm3d_core::error::exit;
-use nmm3d_core::scenario;
 use nmm3d_core::simulation::{self, RunOptions, StopRequest};
+use nmm3d_core::{input, scenario};
 use pyo3::prelude::*;
 
 /// The Rust side allocates many small geometry buffers (clipping, covers) and large solver
@@ -19,9 +19,7 @@ static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 #[pyfunction]
 #[pyo3(signature = (path, overrides = Vec::new()))]
 fn load_file(py: Python<'_>, path: PathBuf, overrides: Vec<String>) -> PyResult<String> {
-    py.detach(|| {
-        errors::guard("loading the scenario", || scenario::load_file(&path, &overrides).map(|s| canonical(&s)))
-    })
+    py.detach(|| errors::guard("loading the scenario", || input::load_file(&path, &overrides).map(|s| canonical(&s))))
 }
 
 /// Validate a scenario given as JSON text (`label` names it in messages); returns it canonical.
@@ -29,9 +27,7 @@ fn load_file(py: Python<'_>, path: PathBuf, overrides: Vec<String>) -> PyResult<
 #[pyo3(signature = (text, label, overrides = Vec::new()))]
 fn load_json(py: Python<'_>, text: String, label: String, overrides: Vec<String>) -> PyResult<String> {
     py.detach(|| {
-        errors::guard("loading the scenario", || {
-            scenario::from_json_str(&text, &label, &overrides).map(|s| canonical(&s))
-        })
+        errors::guard("loading the scenario", || input::from_json_str(&text, &label, &overrides).map(|s| canonical(&s)))
     })
 }
 
@@ -52,7 +48,7 @@ fn run_json(
     let stop = StopRequest(std::sync::Arc::new(|| Python::attach(|py| py.check_signals().is_err())));
     let outcome = py.detach(|| {
         errors::guard("running", || {
-            let s = scenario::from_json_str(&text, &label, &[])?;
+            let s = input::from_json_str(&text, &label, &[])?;
             simulation::run(s, &label, &RunOptions { out, progress, stop: Some(stop), resume })
         })
     })?;
@@ -66,7 +62,7 @@ fn run_json(
 fn blocks_json(py: Python<'_>, text: String, label: String, out: Option<PathBuf>) -> PyResult<String> {
     let v = py.detach(|| {
         errors::guard("cutting the blocks", || {
-            let s = scenario::from_json_str(&text, &label, &[])?;
+            let s = input::from_json_str(&text, &label, &[])?;
             match out {
                 Some(dir) => nmm3d_core::blocks::report(&s, &dir),
                 None => Ok(nmm3d_core::blocks::table(&s)),
@@ -81,7 +77,7 @@ fn blocks_json(py: Python<'_>, text: String, label: String, out: Option<PathBuf>
 fn cover_report_json(py: Python<'_>, text: String, label: String) -> PyResult<String> {
     let v = py.detach(|| {
         errors::guard("building the covers", || {
-            scenario::from_json_str(&text, &label, &[]).map(|s| nmm3d_core::blocks::cover_report(&s))
+            input::from_json_str(&text, &label, &[]).map(|s| nmm3d_core::blocks::cover_report(&s))
         })
     })?;
     Ok(v.to_string())

@@ -17,7 +17,7 @@ use nmm3d_geom::contact::Mode;
 use nmm3d_geom::polygon;
 use nmm3d_geom::Vec3;
 
-use super::surface::{barycentric, MaterialPoint};
+use super::point::{barycentric, MaterialPoint};
 use crate::model::tags;
 use crate::system::System;
 
@@ -51,7 +51,7 @@ pub fn facets_of_piece(sys: &System, block: usize, piece: &nmm3d_geom::ConvexPol
     let covers = &sys.covers;
     let mut out = Vec::new();
     for (e, me) in covers.elements.iter().enumerate().filter(|(_, me)| me.block == block) {
-        let corner = crate::cover::build::cell_corner(me.cell);
+        let corner = crate::cover::mesh::cell_corner(me.cell);
         for f in me.boundary_faces() {
             let x: Vec<Vec3> = f.vertices.iter().map(|xi| covers.mesh.to_global(&(corner + xi))).collect();
             if !x.iter().all(|p| piece.contains(p, tol)) || !tags::is_boundary(f.tag) {

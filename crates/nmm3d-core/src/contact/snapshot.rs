@@ -5,7 +5,8 @@
 use serde::{Deserialize, Serialize};
 
 use super::broad::Warning;
-use super::{ContactParams, ContactRecord, ContactSet};
+use super::record::{ContactParams, ContactRecord};
+use super::set::ContactSet;
 
 /// A [`ContactSet`]'s state.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -14,8 +14,8 @@ use std::collections::HashMap;
 
 use nmm3d_geom::Vec3;
 
-use super::build::{cell_corner, Covers};
-use crate::element::loads::element_centroid;
+use super::build::Covers;
+use super::mesh::cell_corner;
 
 /// How far (in cells) to look for a well-posed ME.
 const SEARCH_RADIUS: i32 = 64;
@@ -77,7 +77,7 @@ fn nearest_root(
     for r in 0..=SEARCH_RADIUS.min(farthest) {
         for cell in ring(centre, r) {
             for &e in roots.get(&(block, cell)).into_iter().flatten() {
-                let d = (element_centroid(covers, &covers.elements[e]) - x).norm();
+                let d = (covers.elements[e].centroid(&covers.mesh) - x).norm();
                 if best.is_none_or(|(bd, be)| d < bd || (d == bd && e < be)) {
                     best = Some((d, e));
                 }

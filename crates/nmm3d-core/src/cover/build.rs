@@ -14,11 +14,12 @@ use nmm3d_geom::polyhedron::CLIP_TOLERANCE;
 use nmm3d_geom::{integrate, polygon, ConvexPolyhedron, FaceTag, Plane, Vec3};
 
 use super::manifold_element::ManifoldElement;
-use super::mesh::{MathMesh, NodeKey};
+use super::mesh::{cell_corner, MathMesh, NodeKey};
 use super::pattern::{parity, PatternTable, CELL_TAG};
-use super::physical_cover::{PhysicalCover, UnionFind};
+use super::physical_cover::PhysicalCover;
 use super::poly::{self, TERMS};
 use crate::model::cutting::faces_touch;
+use crate::model::union_find::UnionFind;
 use crate::model::{tags, Block, Geometry};
 
 /// The cover system of a model.
@@ -91,11 +92,6 @@ impl Covers {
             e.block == block && e.contains(&(local - cell_corner(e.cell)), t)
         })
     }
-}
-
-/// Mesh-local coordinates of a cell's corner.
-pub fn cell_corner(cell: [i32; 3]) -> Vec3 {
-    Vec3::new(cell[0] as f64, cell[1] as f64, cell[2] as f64)
 }
 
 /// The moment exponents a pattern needs: total degree ≤ 2 for linear weights, all 27 for hex8.

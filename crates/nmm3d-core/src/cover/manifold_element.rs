@@ -1,7 +1,8 @@
 //! Manifold elements: the connected parts of (sub-cell ∩ block).
 
-use nmm3d_geom::ConvexPolyhedron;
+use nmm3d_geom::{ConvexPolyhedron, Vec3};
 
+use super::mesh::{cell_corner, MathMesh};
 use super::poly::TERMS;
 
 /// One manifold element (ME).
@@ -28,6 +29,13 @@ pub struct ManifoldElement {
 }
 
 impl ManifoldElement {
+    /// Volume centroid [m] (from the moments, in `mesh`).
+    pub fn centroid(&self, mesh: &MathMesh) -> Vec3 {
+        let m = &self.moments;
+        let local = Vec3::new(m[1], m[3], m[9]) / m[0];
+        mesh.to_global(&(cell_corner(self.cell) + local))
+    }
+
     /// Every face of every part.
     pub fn faces(&self) -> impl Iterator<Item = &nmm3d_geom::Face> {
         self.parts.iter().flat_map(|p| p.faces.iter())

@@ -45,3 +45,8 @@ impl MathMesh {
         [local.x.floor() as i32, local.y.floor() as i32, local.z.floor() as i32]
     }
 }
+
+/// Mesh-local coordinates of a cell's corner.
+pub fn cell_corner(cell: [i32; 3]) -> Vec3 {
+    Vec3::new(cell[0] as f64, cell[1] as f64, cell[2] as f64)
+}

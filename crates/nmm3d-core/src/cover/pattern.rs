@@ -17,8 +17,7 @@ use nmm3d_geom::{ConvexPolyhedron, Face, FaceTag, Mat3, Plane, Vec3};
 use super::poly::Poly;
 use crate::scenario::PatternKind;
 
-/// Tags of the faces of a sub-cell start here (block faces use smaller tags).
-pub const CELL_TAG: u32 = 1 << 30;
+pub use crate::model::tags::CELL_TAG;
 
 /// One sub-cell of the pattern.
 #[derive(Debug, Clone)]

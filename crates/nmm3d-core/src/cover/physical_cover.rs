@@ -15,32 +15,3 @@ pub struct PhysicalCover {
     /// Reference (initial) position of the node [m].
     pub position: Vec3,
 }
-
-/// Union–find with path halving; deterministic (the smaller index becomes the root).
-#[derive(Debug, Clone)]
-pub struct UnionFind {
-    parent: Vec<usize>,
-}
-
-impl UnionFind {
-    /// `n` singletons.
-    pub fn new(n: usize) -> Self {
-        Self { parent: (0..n).collect() }
-    }
-    /// Representative of `x`.
-    pub fn find(&mut self, mut x: usize) -> usize {
-        while self.parent[x] != x {
-            self.parent[x] = self.parent[self.parent[x]];
-            x = self.parent[x];
-        }
-        x
-    }
-    /// Merge the sets of `a` and `b`.
-    pub fn union(&mut self, a: usize, b: usize) {
-        let (ra, rb) = (self.find(a), self.find(b));
-        if ra != rb {
-            let (lo, hi) = (ra.min(rb), ra.max(rb));
-            self.parent[hi] = lo;
-        }
-    }
-}

@@ -5,7 +5,7 @@
 use nmm3d_geom::{integrate, Vec3};
 
 use super::kernel::stress_matrix;
-use crate::cover::build::cell_corner;
+use crate::cover::mesh::cell_corner;
 use crate::cover::poly::{self, Poly, TERMS};
 use crate::cover::{Covers, ManifoldElement};
 use crate::scenario::{InSituStress, Region};
@@ -17,13 +17,6 @@ pub fn in_situ_at(s: &InSituStress, z: f64) -> [f64; 6] {
         *o += (z - s.reference_z) * g;
     }
     out
-}
-
-/// Volume centroid of an ME [m].
-pub fn element_centroid(covers: &Covers, e: &ManifoldElement) -> Vec3 {
-    let m = &e.moments;
-    let local = Vec3::new(m[1], m[3], m[9]) / m[0];
-    covers.mesh.to_global(&(cell_corner(e.cell) + local))
 }
 
 /// Initial-stress nodal forces f_a = ∫ σ₀(z) ∇w_a dV (the internal force of the initial
@@ -51,7 +44,7 @@ pub fn initial_stress(covers: &Covers, e: &ManifoldElement, s: &InSituStress) ->
             base * (sz * sz * (r * h)) + grad * (sz * sz * (r * q))
         })
         .collect();
-    (forces, in_situ_at(s, element_centroid(covers, e).z))
+    (forces, in_situ_at(s, e.centroid(&covers.mesh).z))
 }
 
 /// Weight-function values of an ME's nodes at a global reference point.

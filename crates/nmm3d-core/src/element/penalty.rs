@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use nmm3d_geom::Vec3;
 
 use super::loads::weights_at;
-use crate::cover::build::cell_corner;
+use crate::cover::mesh::cell_corner;
 use crate::cover::Covers;
 use crate::scenario::{Axis, Region};
 

@@ -22,7 +22,7 @@ use nmm3d_geom::{orientation, polygon, Aabb, ConvexPolyhedron, Face, Plane, Vec3
 
 use super::shape::shape_to_pieces;
 use super::tags;
-use crate::cover::physical_cover::UnionFind;
+use super::union_find::UnionFind;
 use crate::scenario::Scenario;
 
 /// One joint feature (a set or a single plane).

@@ -6,6 +6,7 @@ pub mod material;
 pub mod shape;
 pub mod tags;
 pub mod tunnel;
+pub mod union_find;
 
 use nmm3d_geom::{Aabb, Vec3};
 

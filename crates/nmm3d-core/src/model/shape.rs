@@ -9,10 +9,28 @@ use nmm3d_geom::{ConvexPolyhedron, Face, GeomError, Plane, Vec3};
 
 use super::tags;
 use super::tunnel::tunnel_polyhedron;
-use crate::scenario::Shape;
+use crate::error::Problem;
+use crate::scenario::{Scenario, Shape};
 
 /// Failure: (sub-path below the shape, reason).
 pub type ShapeError = (String, String);
+
+/// Every body and excavation shape that does not make a solid, as input problems with their
+/// key paths (a tunnel as a body is the scenario checks' to report).
+pub fn shape_problems(s: &Scenario) -> Vec<Problem> {
+    let bodies = s
+        .body
+        .iter()
+        .filter(|b| !matches!(b.shape, Shape::Tunnel(_)))
+        .map(|b| (format!("body.{}.shape", b.name), &b.shape));
+    let holes = s.excavation.iter().enumerate().map(|(k, ex)| (format!("excavation[{k}].shape"), &ex.shape));
+    bodies
+        .chain(holes)
+        .filter_map(|(path, shape)| {
+            shape_to_pieces(shape).err().map(|(sub, reason)| Problem { path: format!("{path}{sub}"), reason })
+        })
+        .collect()
+}
 
 /// The convex pieces of a shape (an excavation may also be a tunnel).
 pub fn shape_to_pieces(shape: &Shape) -> Result<Vec<ConvexPolyhedron>, ShapeError> {

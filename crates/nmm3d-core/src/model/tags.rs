@@ -10,8 +10,8 @@
 
 use nmm3d_geom::FaceTag;
 
-pub use crate::cover::pattern::CELL_TAG;
-
+/// Tags of the faces of a sub-cell start here (block faces use smaller tags).
+pub const CELL_TAG: u32 = 1 << 30;
 /// First joint-feature tag.
 pub const JOINT_BASE: u32 = 1 << 20;
 /// Glue between pieces of one block.

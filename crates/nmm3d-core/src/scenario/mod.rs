@@ -1,4 +1,5 @@
-//! Scenario v1: parsing (TOML or JSON), `--set` overrides and validation, in one place.
+//! Scenario v1: parsing (TOML or JSON), `--set` overrides and the semantic checks of the keys.
+//! `crate::input` loads a scenario whole: parsed here, checked here and by the model (shapes).
 
 mod overrides;
 pub mod schema;
@@ -7,20 +8,21 @@ mod validate;
 use std::path::Path;
 
 pub use schema::*;
-pub use validate::validate;
+pub use validate::problems;
 
 use crate::error::{Error, Result};
 
-/// Read, override and validate a scenario file.
-pub fn load_file(path: &Path, overrides: &[String]) -> Result<Scenario> {
+/// Read a scenario file and apply the overrides (not validated: `crate::input::load_file`).
+pub fn read_file(path: &Path, overrides: &[String]) -> Result<Scenario> {
     let label = path.display().to_string();
     let text = std::fs::read_to_string(path)
         .map_err(|e| Error::input(&label, "<file>", format!("cannot read the file: {e}")))?;
-    from_toml_str(&text, &label, overrides)
+    parse_toml(&text, &label, overrides)
 }
 
-/// Parse TOML text (`label` names the source in messages), apply overrides, validate.
-pub fn from_toml_str(text: &str, label: &str, overrides: &[String]) -> Result<Scenario> {
+/// Parse TOML text (`label` names the source in messages) and apply the overrides (not
+/// validated).
+pub fn parse_toml(text: &str, label: &str, overrides: &[String]) -> Result<Scenario> {
     let mut value: toml::Value = toml::from_str::<toml::Table>(text)
         .map(toml::Value::Table)
         .map_err(|e| Error::input(label, "<toml>", e.message().to_string() + &location(text, e.span())))?;
@@ -29,17 +31,16 @@ pub fn from_toml_str(text: &str, label: &str, overrides: &[String]) -> Result<Sc
     }
     let scenario: Scenario = serde_path_to_error::deserialize(value)
         .map_err(|e| Error::input(label, e.path().to_string(), e.inner().message().to_string()))?;
-    validate(&scenario, label)?;
     Ok(scenario)
 }
 
-/// Parse a JSON document (from Python dictionaries), apply overrides, validate.
-pub fn from_json_str(text: &str, label: &str, overrides: &[String]) -> Result<Scenario> {
+/// Parse a JSON document (from Python dictionaries) and apply the overrides (not validated).
+pub fn parse_json(text: &str, label: &str, overrides: &[String]) -> Result<Scenario> {
     let mut json: serde_json::Value =
         serde_json::from_str(text).map_err(|e| Error::input(label, "<json>", e.to_string()))?;
     drop_nulls(&mut json);
     let toml_text = toml::to_string(&json).map_err(|e| Error::input(label, "<dict>", e.to_string()))?;
-    from_toml_str(&toml_text, label, overrides)
+    parse_toml(&toml_text, label, overrides)
 }
 
 /// `null` means "absent" (TOML has no null).
@@ -84,7 +85,7 @@ shape = { box = { min = [0, 0, 0], max = [1, 1, 1] } }
 
     fn problems(text: &str, o: &[&str]) -> Vec<Problem> {
         let o: Vec<String> = o.iter().map(|s| s.to_string()).collect();
-        match from_toml_str(text, "t.toml", &o) {
+        match crate::input::from_toml_str(text, "t.toml", &o) {
             Err(Error::Scenario { problems, .. }) => problems,
             other => panic!("expected an input error, got {other:?}"),
         }
@@ -92,7 +93,7 @@ shape = { box = { min = [0, 0, 0], max = [1, 1, 1] } }
 
     #[test]
     fn minimal_scenario_parses_with_defaults() {
-        let s = from_toml_str(MINIMAL, "t.toml", &[]).unwrap();
+        let s = crate::input::from_toml_str(MINIMAL, "t.toml", &[]).unwrap();
         assert_eq!(s.analysis.dt, 0.001);
         assert_eq!(s.cover.pattern, PatternKind::Tet6);
     }
@@ -106,8 +107,12 @@ shape = { box = { min = [0, 0, 0], max = [1, 1, 1] } }
 
     #[test]
     fn overrides_address_named_entries() {
-        let s = from_toml_str(MINIMAL, "t.toml", &["material.rock.young=2e9".into(), "analysis.duration=2".into()])
-            .unwrap();
+        let s = crate::input::from_toml_str(
+            MINIMAL,
+            "t.toml",
+            &["material.rock.young=2e9".into(), "analysis.duration=2".into()],
+        )
+        .unwrap();
         assert_eq!(s.material[0].young, 2e9);
         assert_eq!(s.analysis.duration, 2.0);
         let p = problems(MINIMAL, &["material.granite.young=1"]);
@@ -134,11 +139,11 @@ shape = { box = { min = [0, 0, 0], max = [1, 1, 1] } }
     #[test]
     fn a_study_table_is_kept_as_given_and_overridable() {
         let text = MINIMAL.to_string() + "[study]\nkind = \"critical_friction\"\nrange = [5.0, 60.0]\n";
-        let s = from_toml_str(&text, "t.toml", &["study.range=[10.0, 40.0]".into()]).unwrap();
+        let s = crate::input::from_toml_str(&text, "t.toml", &["study.range=[10.0, 40.0]".into()]).unwrap();
         let study = s.study.expect("kept");
         assert_eq!(study["kind"].as_str(), Some("critical_friction"));
         assert_eq!(study["range"].as_array().unwrap()[0].as_float(), Some(10.0));
-        let json = serde_json::to_string(&from_toml_str(MINIMAL, "t.toml", &[]).unwrap()).unwrap();
+        let json = serde_json::to_string(&crate::input::from_toml_str(MINIMAL, "t.toml", &[]).unwrap()).unwrap();
         assert!(!json.contains("study"), "absent study is not written: {json}");
     }
 

@@ -4,8 +4,7 @@
 use std::collections::HashSet;
 
 use super::schema::*;
-use crate::error::{Error, Problem, Result};
-use crate::model::shape::shape_to_pieces;
+use crate::error::Problem;
 
 struct Checker {
     problems: Vec<Problem>,
@@ -32,8 +31,9 @@ impl Checker {
     }
 }
 
-/// Check a scenario; all problems are reported together.
-pub fn validate(s: &Scenario, file: &str) -> Result<()> {
+/// Every problem of a scenario but its shapes (whether each makes a solid is the model's to
+/// say: `model::shape::shape_problems`), each with its key path.
+pub fn problems(s: &Scenario) -> Vec<Problem> {
     let mut c = Checker { problems: Vec::new() };
     analysis(&mut c, &s.analysis);
     if let Some(size) = s.cover.size {
@@ -58,11 +58,7 @@ pub fn validate(s: &Scenario, file: &str) -> Result<()> {
     loads(&mut c, s);
     monitors(&mut c, s);
     expectations(&mut c, s);
-    if c.problems.is_empty() {
-        Ok(())
-    } else {
-        Err(Error::Scenario { file: file.to_string(), problems: c.problems })
-    }
+    c.problems
 }
 
 fn analysis(c: &mut Checker, a: &Analysis) {
@@ -182,8 +178,6 @@ fn bodies(c: &mut Checker, s: &Scenario) {
         }
         if matches!(b.shape, Shape::Tunnel(_)) {
             c.fail(format!("{p}.shape.tunnel"), "a tunnel is only allowed as an excavation shape");
-        } else if let Err((sub, reason)) = shape_to_pieces(&b.shape) {
-            c.fail(format!("{p}.shape{sub}"), reason);
         }
     }
 }
@@ -225,11 +219,6 @@ fn cutting(c: &mut Checker, s: &Scenario) {
         }
         if let Some(j) = jp.joint.as_ref().filter(|j| !has_joint(s, j)) {
             c.fail(format!("{p}.joint"), format!("there is no joint named '{j}'"));
-        }
-    }
-    for (k, ex) in s.excavation.iter().enumerate() {
-        if let Err((sub, reason)) = shape_to_pieces(&ex.shape) {
-            c.fail(format!("excavation[{k}].shape{sub}"), reason);
         }
     }
     for (k, i) in s.interface.iter().enumerate() {

@@ -3,12 +3,12 @@
 
 use std::path::PathBuf;
 
-use nmm3d_core::scenario::{self, Scenario};
+use nmm3d_core::scenario::Scenario;
 use nmm3d_core::simulation::{run, RunOptions, RunOutcome};
 
 /// Parse and validate a scenario written inline.
 pub fn scenario(text: &str) -> Scenario {
-    scenario::from_toml_str(text, "<test>", &[]).unwrap_or_else(|e| panic!("{e}"))
+    nmm3d_core::input::from_toml_str(text, "<test>", &[]).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// A fresh output directory under the target dir.

@@ -1,0 +1,101 @@
+//! The contact terms of the system: every closed point's spring scattered through the coupling
+//! of its pair of MEs, the start-of-step forces, and the energy in the springs.
+
+use nmm3d_geom::Vec3;
+
+use super::record::ContactState;
+use super::set::ContactSet;
+use crate::assembly::{Coupling, SparsityPattern};
+use crate::system::System;
+
+impl ContactSet {
+    /// The springs of every closed point, summed per pair of MEs and scattered into `values`
+    /// (on `pattern`) through the pair's coupling (its covers, lower ME first); the constant
+    /// forces go straight to `force` per cover. A point's matrix is w wᵀ ⊗ B, so tied covers
+    /// are folded into the weights (Tᵀ w) before the product, not after.
+    pub fn assemble<'a>(
+        &self,
+        sys: &System,
+        force: &mut [Vec3],
+        pattern: &SparsityPattern,
+        coupling: impl Fn((usize, usize)) -> &'a Coupling,
+        values: &mut [f64],
+    ) {
+        let mut order: Vec<usize> =
+            (0..self.records.len()).filter(|&k| self.records[k].state != ContactState::Open).collect();
+        order.sort_by_key(|&k| self.records[k].element_pair());
+        let (mut mat, mut w, mut wm) = (Vec::new(), Vec::new(), Vec::new());
+        let mut k = 0;
+        while k < order.len() {
+            let key = self.records[order[k]].element_pair();
+            let cp = coupling(key);
+            let m = cp.nodes();
+            mat.clear();
+            mat.resize(9 * m * m, 0.0);
+            while k < order.len() && self.records[order[k]].element_pair() == key {
+                let r = &self.records[order[k]];
+                k += 1;
+                let (block, f) = r.spring();
+                // Weights in the clique order of the pair (lower ME first); B's negative.
+                let (first, second, sign) =
+                    if r.a.element < r.b.element { (&r.a, &r.b, 1.0) } else { (&r.b, &r.a, -1.0) };
+                w.clear();
+                w.extend(first.weights.iter().map(|x| sign * x).chain(second.weights.iter().map(|x| -sign * x)));
+                let covers =
+                    sys.covers.elements[first.element].covers.iter().chain(&sys.covers.elements[second.element].covers);
+                for (&c, wc) in covers.zip(&w) {
+                    force[c] += *wc * f;
+                }
+                cp.node_weights(&w, &mut wm);
+                for (a, wa) in wm.iter().enumerate().filter(|(_, x)| **x != 0.0) {
+                    for (b, wb) in wm.iter().enumerate().filter(|(_, x)| **x != 0.0) {
+                        let s = wa * wb;
+                        for i in 0..3 {
+                            for j in 0..3 {
+                                mat[(3 * a + i) * 3 * m + 3 * b + j] += s * block[(i, j)];
+                            }
+                        }
+                    }
+                }
+            }
+            cp.add(pattern, values, &mat);
+        }
+    }
+
+    /// Add each point's force at the start of the step (springs at the start gaps and
+    /// extensions) to the per-cover forces `f`.
+    pub fn add_start_forces(&self, sys: &System, f: &mut [Vec3]) {
+        for r in &self.records {
+            let (n, kn) = (r.normal, r.kn);
+            let spring = -kn * r.gap0 * n;
+            let force = match r.state {
+                ContactState::Open => continue,
+                ContactState::Stick => r.preload + spring - r.ks * r.shear0,
+                ContactState::Slide => {
+                    let normal = (n.dot(&r.preload) - kn * r.gap0).max(0.0);
+                    n * n.dot(&r.preload) + spring - (r.strength.tan_phi * normal + r.strength.cohesion) * r.slip
+                }
+            };
+            for (mp, sign) in [(&r.a, 1.0), (&r.b, -1.0)] {
+                for (&c, w) in sys.covers.elements[mp.element].covers.iter().zip(&mp.weights) {
+                    f[c] += sign * w * force;
+                }
+            }
+        }
+    }
+
+    /// Energy in the springs of the closed points: ½ k_n g² for an overlap, ½ k_s |s|² [J]
+    /// (after `accept`; an in-situ preload's share is not counted).
+    pub fn spring_energy(&self) -> f64 {
+        self.records
+            .iter()
+            .filter(|r| r.state != ContactState::Open)
+            .map(|r| 0.5 * r.kn * r.gap.min(0.0).powi(2) + 0.5 * r.ks * r.shear0.norm_squared())
+            .sum()
+    }
+}
+
+/// The covers of two MEs, first then second (the clique a contact between them couples).
+pub fn pair_clique(sys: &System, a: usize, b: usize) -> Vec<usize> {
+    [sys.covers.elements[a].covers.as_slice(), sys.covers.elements[b].covers.as_slice()].concat()
+}

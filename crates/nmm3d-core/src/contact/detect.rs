@@ -1,0 +1,165 @@
+//! The detection driver: the contact surfaces of every block, and per step the warning list,
+//! detection on the current geometry, the contact points of each detected pair and their
+//! transfer from the previous step.
+
+use std::sync::OnceLock;
+use std::time::Instant;
+
+use rayon::prelude::*;
+use rustc_hash::FxHashMap;
+
+use nmm3d_geom::contact::{detect_prepared, Contact, DetectParams, Prepared};
+use nmm3d_geom::{ConvexPolyhedron, Vec3};
+
+use super::broad::Warning;
+use super::facets::{self, Candidate};
+use super::point::MaterialPoint;
+use super::record::{ContactParams, ContactRecord};
+use super::set::{ContactSet, ContactTimes};
+use super::surface::ContactPiece;
+use super::transfer::inherit;
+use crate::scenario::Joint;
+use crate::state::State;
+use crate::system::System;
+
+impl ContactSet {
+    /// Contact surfaces of every block (`None` with fewer than two blocks).
+    pub fn new(sys: &System, params: ContactParams) -> Option<Self> {
+        if sys.geometry.blocks.len() < 2 {
+            return None;
+        }
+        let pieces = sys
+            .geometry
+            .blocks
+            .iter()
+            .enumerate()
+            .flat_map(|(b, block)| block.pieces.iter().filter_map(move |p| ContactPiece::new(sys, b, p)))
+            .collect();
+        Some(Self {
+            pieces,
+            records: Vec::new(),
+            params,
+            warning: Warning::default(),
+            times: ContactTimes::default(),
+            locked: false,
+        })
+    }
+
+    /// Re-detect on the current geometry; transfer state, shear, preload and bond from the
+    /// previous points. `initial`: the first detection, where touching points take the in-situ
+    /// traction and the joint's bond.
+    pub fn detect(&mut self, sys: &System, state: &State, initial: bool) {
+        let clock = Instant::now();
+        let current: Vec<_> = self.pieces.par_iter().map(|p| p.current(sys, state)).collect();
+        let p = self.params;
+        let dp = DetectParams { margin: p.margin, support_tolerance: p.tolerance, thin_distance: 10.0 * p.tolerance };
+        let pieces = &self.pieces;
+        let keep = |i: usize, j: usize| {
+            pieces[i].block != pieces[j].block && !both_fixed(sys, pieces[i].block, pieces[j].block)
+        };
+        let pairs = self.warning.update(&current, p.margin, p.skin, keep);
+        self.times.warning += clock.elapsed().as_secs_f64();
+        let clock = Instant::now();
+        let prepared: Vec<Prepared> = current.par_iter().map(Prepared::new).collect();
+        // Current facet vertices, once per piece and only for pieces in a detected pair.
+        let facets: Vec<OnceLock<Vec<Vec<Vec3>>>> = pieces.iter().map(|_| OnceLock::new()).collect();
+        let facets_of = |k: usize| facets[k].get_or_init(|| pieces[k].facet_positions(sys, state)).as_slice();
+        // A is the piece of the higher block index.
+        let found: Vec<(usize, usize, Vec3, Vec<Candidate>)> = pairs
+            .par_iter()
+            .map(|&(i, j)| if pieces[i].block > pieces[j].block { (i, j) } else { (j, i) })
+            .filter_map(|(i, j)| {
+                let c = detect_prepared(&prepared[i], &prepared[j], &dp)?;
+                let on = Surfaces {
+                    pieces: (&pieces[i], &pieces[j]),
+                    current: (&current[i], &current[j]),
+                    facets: (facets_of(i), facets_of(j)),
+                };
+                Some((i, j, c.normal, candidates(sys, state, &on, &c, p.tolerance)))
+            })
+            .collect();
+        let previous = std::mem::take(&mut self.records);
+        let mut by_pair: FxHashMap<(usize, usize), Vec<usize>> = FxHashMap::default();
+        for (k, r) in previous.iter().enumerate() {
+            by_pair.entry(r.blocks).or_default().push(k);
+        }
+        for (i, j, normal, points) in found {
+            let blocks = (self.pieces[i].block, self.pieces[j].block);
+            let joint = joint_between(sys, blocks.0, blocks.1);
+            for q in points {
+                let mut r = ContactRecord::fresh(sys, q, blocks, normal, joint, initial, &p);
+                inherit(&mut r, &previous, by_pair.get(&blocks), &p, self.locked);
+                self.records.push(r);
+            }
+        }
+        self.times.detection += clock.elapsed().as_secs_f64();
+    }
+}
+
+fn both_fixed(sys: &System, a: usize, b: usize) -> bool {
+    sys.geometry.blocks[a].fixed && sys.geometry.blocks[b].fixed
+}
+
+/// The two sides (A, B) of a detected pair: pieces, their current geometry and the current
+/// vertices of their facets.
+struct Surfaces<'a> {
+    pieces: (&'a ContactPiece, &'a ContactPiece),
+    current: (&'a ConvexPolyhedron, &'a ConvexPolyhedron),
+    facets: (&'a [Vec<Vec3>], &'a [Vec<Vec3>]),
+}
+
+/// Contact point candidates of a detected pair: on the facets for a face-to-face contact, else
+/// the piece-level points (area shared equally).
+fn candidates(sys: &System, state: &State, on: &Surfaces, c: &Contact, tol: f64) -> Vec<Candidate> {
+    let ((pa, pb), (ca, cb)) = (on.pieces, on.current);
+    let n = c.normal;
+    let level = |p: &ConvexPolyhedron, f: fn(f64, f64) -> f64, init: f64| {
+        p.faces.iter().flat_map(|x| x.vertices.iter()).map(|v| n.dot(v)).fold(init, f)
+    };
+    let (level_a, level_b) = (level(ca, f64::min, f64::INFINITY), level(cb, f64::max, f64::NEG_INFINITY));
+    let on_facets = facets::overlay(
+        sys,
+        (&pa.facets, on.facets.0),
+        (&pb.facets, on.facets.1),
+        &n,
+        (level_a, level_b),
+        tol,
+        MERGE * tol,
+    );
+    if !on_facets.is_empty() {
+        return on_facets;
+    }
+    let area = if c.points.is_empty() { 0.0 } else { c.area / c.points.len() as f64 };
+    c.points
+        .iter()
+        .filter_map(|q| {
+            let a = MaterialPoint::new(sys, pa.block, pa.reference_of(ca, &q.on_a))?;
+            let b = MaterialPoint::new(sys, pb.block, pb.reference_of(cb, &q.on_b))?;
+            // The gap the springs act on: between the material points as their covers move them.
+            // A piece's faces run straight between its vertices, but a long piece bends between
+            // them (the covers interpolate within each ME): a gap measured on the straight faces
+            // would not close when the springs push the material points apart.
+            let (xa, xb) = (a.position(sys, state), b.position(sys, state));
+            Some(Candidate { mode: q.mode, a, b, on_a: xa, gap: n.dot(&(xa - xb)), area })
+        })
+        .collect()
+}
+
+/// Facet overlay corners closer than this multiple of the support tolerance are one point (the
+/// thinning distance of the piece-level points): near-identical facets of A and B would
+/// otherwise give near-duplicate crossings that come and go as the blocks move.
+const MERGE: f64 = 10.0;
+
+/// The joint between two blocks: an interface naming both bodies, else A's body joint, else B's.
+fn joint_between(sys: &System, a: usize, b: usize) -> Option<&Joint> {
+    let s = &sys.scenario;
+    let (ba, bb) = (&s.body[sys.geometry.blocks[a].body].name, &s.body[sys.geometry.blocks[b].body].name);
+    let name = s
+        .interface
+        .iter()
+        .find(|i| (&i.bodies[0] == ba && &i.bodies[1] == bb) || (&i.bodies[0] == bb && &i.bodies[1] == ba))
+        .map(|i| &i.joint)
+        .or(s.body[sys.geometry.blocks[a].body].joint.as_ref())
+        .or(s.body[sys.geometry.blocks[b].body].joint.as_ref())?;
+    s.joint.iter().find(|x| &x.name == name)
+}

@@ -1,0 +1,148 @@
+//! The open–close state rules (thesis Table 3-1; the table of the module documentation): after
+//! each solve of a step's open–close iteration every point is updated from the increments, with
+//! hysteresis on gap and friction cone so that points at zero force do not flip with round-off.
+
+use nmm3d_geom::Vec3;
+
+use super::point::MaterialPoint;
+use super::record::{tangential, ContactRecord, ContactState};
+use super::set::ContactSet;
+use crate::system::System;
+
+impl ContactSet {
+    /// Update every point from the solved increments `d`: how many changed state, and how far
+    /// the forces the solve applied are from the forces of the updated states (summed over the
+    /// points, relative to the sum of the updated forces).
+    pub fn update_states(&mut self, sys: &System, d: &[Vec3]) -> (usize, f64) {
+        let locked = self.locked;
+        let band = GAP_BAND * self.params.size;
+        let reclose = RECLOSE_DEPTH * self.params.tolerance;
+        let mut changed = 0;
+        // Largest change of a sliding point's friction force, and the largest friction limit.
+        let (mut turned, mut largest) = (0.0f64, 0.0f64);
+        let (mut mismatch, mut total) = (0.0f64, 0.0f64);
+        for r in &mut self.records {
+            // The spring this solve used, linearised about the last iterate.
+            let (block, constant) = r.spring();
+            let inc = |mp: &MaterialPoint| -> Vec3 {
+                sys.covers.elements[mp.element].covers.iter().zip(&mp.weights).map(|(&c, w)| *w * d[c]).sum()
+            };
+            // The friction this solve used (linearised about the last iterate).
+            let used = (r.state == ContactState::Slide).then(|| r.friction().0);
+            r.rel = inc(&r.a) - inc(&r.b);
+            r.gap = r.gap0 + r.normal.dot(&r.rel);
+            let (kn, ks) = (r.kn, r.ks);
+            let n = r.normal;
+            let t = tangential(&n);
+            if r.state == ContactState::Open && r.gap <= 0.0 {
+                // Closing: the shear spring starts where the point entered (the fraction of
+                // the step's motion spent closing the gap does not stretch it; DDA's entrance).
+                let entered = if r.gap0 > 0.0 { r.gap0 / (r.gap0 - r.gap) } else { 0.0 };
+                r.shear0 = -entered * (t * r.rel);
+            }
+            let shear = r.shear0 + t * r.rel;
+            // Elastic trial: forces on A if the springs held (return mapping onto the Coulomb
+            // limit, as in 3DEC; a sliding point's spring sits at the limit, see `accept`).
+            let normal = n.dot(&r.preload) - kn * r.gap;
+            let held = t * r.preload - ks * shear;
+            let s = r.strength;
+            let limit = s.tan_phi * normal.max(0.0) + s.cohesion;
+            let closing = r.state == ContactState::Open;
+            let new = next_state(r, normal, &held, limit, band, reclose, locked);
+            if new == ContactState::Slide && held.norm() > 0.0 {
+                // A slips against the force that would hold it.
+                largest = largest.max(limit);
+                r.slip = -held.normalize();
+                // The friction magnitude follows the normal force of the last solve — unless
+                // the point was open in it: its overlap there had no spring to stop it, and
+                // friction from it would be fictitious (and feed back until the iteration
+                // diverges where many points close at once). It starts frictionless and takes
+                // its real normal force at the next iteration.
+                r.limit = if closing { 0.0 } else { limit };
+                if let Some(u) = used {
+                    turned = turned.max((-limit * r.slip - u).norm());
+                }
+            }
+            if new != r.state {
+                changed += 1;
+                if new != ContactState::Stick {
+                    r.strength = r.strength.broken();
+                }
+                if new == ContactState::Open {
+                    r.preload = Vec3::zeros();
+                    r.opened = true;
+                }
+                if closing {
+                    r.reclosed += 1;
+                }
+                r.state = new;
+            }
+            r.force = match r.state {
+                ContactState::Open => Vec3::zeros(),
+                ContactState::Stick => r.preload - kn * r.gap * n - ks * shear,
+                ContactState::Slide => n * n.dot(&r.preload) - kn * r.gap * n + r.friction().0,
+            };
+            mismatch += (constant - block * r.rel - r.force).norm();
+            total += r.force.norm();
+        }
+        // The friction was linearised about the last iterate (its magnitude from the last
+        // normal force, its direction from the last trial): if some sliding point's friction
+        // changed by more than the tolerance (relative to the largest friction force), iterate
+        // again, as for a change of state.
+        if turned > SLIP_TURN * largest {
+            changed += 1;
+        }
+        (changed, if total > 0.0 { mismatch / total } else { 0.0 })
+    }
+}
+
+/// Half-width of the open–close hysteresis as a fraction of the cover size (far below
+/// elastic contact deformations, far above the round-off of gaps).
+pub(super) const GAP_BAND: f64 = 1e-10;
+
+/// Overlap, as a fraction of the support tolerance, at which a point that opened during the
+/// step's iterations closes again.
+const RECLOSE_DEPTH: f64 = 1e-3;
+
+/// Closings of a point within one step's open–close iterations after which it stays open.
+const MAX_RECLOSE: u32 = 2;
+
+/// Largest change of a sliding point's friction force between two open–close iterations,
+/// relative to the largest friction limit, that counts as converged (about a 1° turn, or a
+/// 1.7 % change, of the largest).
+const SLIP_TURN: f64 = 0.017_45;
+
+/// The state of point `r` after a solve (the table of the module documentation), from its
+/// normal force, elastic trial shear force `held` and Coulomb limit, with hysteresis of ±`band`
+/// on gap and cone.
+pub(super) fn next_state(
+    r: &ContactRecord,
+    normal: f64,
+    held: &Vec3,
+    limit: f64,
+    band: f64,
+    reclose: f64,
+    locked: bool,
+) -> ContactState {
+    let closing = r.state == ContactState::Open;
+    match r.state {
+        // Open until it overlaps beyond the band: a point at zero force (the side faces of
+        // neighbouring blocks) must not flip with round-off. A point that closed twice in this
+        // step's iterations stays open (it sits where the pressure changes sign and would flip
+        // for ever); one that opened closes again only at the re-closing depth (small overlaps
+        // there are rocking within the iteration, not contact).
+        ContactState::Open if r.gap > -band || r.reclosed >= MAX_RECLOSE => ContactState::Open,
+        ContactState::Open if r.opened && r.gap > -reclose => ContactState::Open,
+        _ if locked => ContactState::Stick,
+        // Tension beyond the bond (and the band's spring force) opens a closed point.
+        _ if !closing && normal < -r.strength.tension - r.kn * band => ContactState::Open,
+        // A sliding point whose slip would reverse sticks (DDA's rule; the direction of a point
+        // barely slipping is noise and would flip between iterations).
+        ContactState::Slide if held.dot(&r.slip) > 0.0 => ContactState::Stick,
+        ContactState::Slide if held.norm() > limit => ContactState::Slide,
+        // A stuck or closing point slides once the trial exceeds the limit by the band's spring
+        // force (a point entering while the blocks slip slides at once instead of braking).
+        _ if held.norm() > limit + r.ks * band => ContactState::Slide,
+        _ => ContactState::Stick,
+    }
+}

@@ -1,0 +1,34 @@
+//! Loading a scenario whole: parsed and its keys checked (`scenario`), its shapes checked by the
+//! model that will build them (`model`); every problem reported together, each with its key
+//! path. The one entry point for files, TOML text and JSON (Python dictionaries).
+
+use std::path::Path;
+
+use crate::error::{Error, Result};
+use crate::model::shape::shape_problems;
+use crate::scenario::{self, Scenario};
+
+/// Read, override and validate a scenario file.
+pub fn load_file(path: &Path, overrides: &[String]) -> Result<Scenario> {
+    checked(scenario::read_file(path, overrides)?, &path.display().to_string())
+}
+
+/// Parse TOML text (`label` names the source in messages), apply overrides, validate.
+pub fn from_toml_str(text: &str, label: &str, overrides: &[String]) -> Result<Scenario> {
+    checked(scenario::parse_toml(text, label, overrides)?, label)
+}
+
+/// Parse a JSON document (from Python dictionaries), apply overrides, validate.
+pub fn from_json_str(text: &str, label: &str, overrides: &[String]) -> Result<Scenario> {
+    checked(scenario::parse_json(text, label, overrides)?, label)
+}
+
+fn checked(s: Scenario, label: &str) -> Result<Scenario> {
+    let mut problems = scenario::problems(&s);
+    problems.extend(shape_problems(&s));
+    if problems.is_empty() {
+        Ok(s)
+    } else {
+        Err(Error::Scenario { file: label.to_string(), problems })
+    }
+}
