@@ -47,3 +47,55 @@ impl ContactSet {
         dissipated
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::broad::Warning;
+    use crate::contact::record::{test_point, ContactParams};
+    use crate::contact::set::ContactTimes;
+
+    fn set_of(r: ContactRecord) -> ContactSet {
+        let params = ContactParams { kn: 1e9, ks: 1e9, size: 0.5, margin: 1e-3, skin: 1e-2, tolerance: 1e-3 };
+        ContactSet {
+            pieces: Vec::new(),
+            records: vec![r],
+            params,
+            warning: Warning::default(),
+            times: ContactTimes::default(),
+            locked: false,
+        }
+    }
+
+    #[test]
+    fn a_sliding_point_keeps_its_spring_at_the_limit_and_dissipates_the_rest() {
+        let mut r = test_point(ContactState::Slide, -1e-6);
+        (r.limit, r.slip, r.rel) = (500.0, Vec3::x(), Vec3::new(1e-5, 0.0, 0.0));
+        let mut set = set_of(r);
+        let dissipated = set.accept();
+        // The spring holds the Coulomb force (500 N / 1e9 N/m); the rest of the slip is friction work.
+        assert!((set.records[0].shear0 - Vec3::new(5e-7, 0.0, 0.0)).norm() < 1e-18);
+        assert!((dissipated - 500.0 * (1e-5 - 5e-7)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_stuck_point_carries_its_shear_and_dissipates_nothing() {
+        let mut r = test_point(ContactState::Stick, -1e-6);
+        (r.shear0, r.rel) = (Vec3::new(1e-7, 0.0, 0.0), Vec3::new(2e-7, 0.0, 5e-7));
+        let mut set = set_of(r);
+        assert_eq!(set.accept(), 0.0);
+        assert!(
+            (set.records[0].shear0 - Vec3::new(3e-7, 0.0, 0.0)).norm() < 1e-20,
+            "only the tangential motion stretches it"
+        );
+    }
+
+    #[test]
+    fn friction_opposes_the_trial_shear_with_the_coulomb_magnitude() {
+        let mut r = test_point(ContactState::Slide, -1e-6);
+        (r.limit, r.shear0) = (500.0, Vec3::new(0.0, -3e-6, 0.0));
+        let (f, k) = r.friction();
+        assert!((f - Vec3::new(0.0, 500.0, 0.0)).norm() < 1e-9);
+        assert!((k - 1e9 * (500.0 / 3000.0) * Mat3::from_diagonal(&Vec3::new(1.0, 0.0, 0.0))).norm() < 1e-3);
+    }
+}

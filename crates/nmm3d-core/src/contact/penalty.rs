@@ -45,3 +45,57 @@ impl ContactRecord {
         (block, force)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::record::test_point;
+
+    fn close(a: &Mat3, b: &Mat3) -> bool {
+        (a - b).norm() <= 1e-9 * b.norm().max(1.0)
+    }
+
+    /// Thesis Table 3-2: which springs each state applies.
+    #[test]
+    fn table_3_2_springs_of_each_state() {
+        let (kn, ks) = (1e9, 1e9);
+        let normal = kn * Mat3::from_diagonal(&Vec3::new(0.0, 0.0, 1.0));
+        let tangential = ks * Mat3::from_diagonal(&Vec3::new(1.0, 1.0, 0.0));
+
+        // Separate: no spring, no force.
+        let r = test_point(ContactState::Open, -1e-6);
+        assert_eq!(r.spring(), (Mat3::zeros(), Vec3::zeros()));
+
+        // Stick: normal and tangential springs; the shear spring's force acts.
+        let mut r = test_point(ContactState::Stick, -1e-6);
+        r.shear0 = Vec3::new(1e-7, 0.0, 0.0);
+        let (block, force) = r.spring();
+        assert!(close(&block, &(normal + tangential)));
+        assert!((force - Vec3::new(-100.0, 0.0, 1e3)).norm() < 1e-9);
+
+        // Slide: the normal spring and a friction force of the Coulomb magnitude against the
+        // trial shear, stiff only across the slip (the consistent tangent).
+        let mut r = test_point(ContactState::Slide, -1e-6);
+        r.shear0 = Vec3::new(2e-6, 0.0, 0.0);
+        r.limit = 500.0;
+        r.slip = Vec3::x();
+        let (block, force) = r.spring();
+        let across = 0.25 * ks * Mat3::from_diagonal(&Vec3::new(0.0, 1.0, 0.0));
+        assert!(close(&block, &(normal + across)));
+        assert!((force - Vec3::new(-500.0, 0.0, 1e3)).norm() < 1e-9);
+    }
+
+    #[test]
+    fn raising_the_penalties_keeps_the_shear_force_but_not_a_joint_stiffness() {
+        let mut r = test_point(ContactState::Stick, 0.0);
+        r.shear0 = Vec3::new(1e-7, 0.0, 0.0);
+        let before = r.ks * r.shear0;
+        r.stiffen(10.0);
+        assert_eq!((r.kn, r.ks), (1e10, 1e10));
+        assert!((r.ks * r.shear0 - before).norm() < 1e-12);
+        let mut j = test_point(ContactState::Stick, 0.0);
+        j.joint_stiffness = true;
+        j.stiffen(10.0);
+        assert_eq!((j.kn, j.ks), (1e9, 1e9));
+    }
+}

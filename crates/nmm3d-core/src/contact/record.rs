@@ -221,3 +221,34 @@ fn in_situ_traction(sys: &System, x: &Vec3, n: &Vec3) -> Vec3 {
     let sigma = Mat3::new(c[0], c[3], c[5], c[3], c[1], c[4], c[5], c[4], c[2]);
     -(sigma * n)
 }
+
+/// A point on a horizontal joint (normal +z from B to A), k_n = k_s = 1e9 N/m, tan φ = 0.5, no
+/// bond, at rest: the starting row of the state-rule tables.
+#[cfg(test)]
+pub(super) fn test_point(state: ContactState, gap: f64) -> ContactRecord {
+    let point = |z: f64| MaterialPoint { element: 0, weights: Vec::new(), reference: Vec3::new(0.0, 0.0, z) };
+    ContactRecord {
+        blocks: (1, 0),
+        mode: Mode::VertexOfA,
+        a: point(0.0),
+        b: point(0.0),
+        normal: Vec3::z(),
+        gap0: gap,
+        offset: 0.0,
+        state,
+        shear0: Vec3::zeros(),
+        slip: Vec3::zeros(),
+        strength: Strength { tan_phi: 0.5, cohesion: 0.0, tension: 0.0 },
+        area: 0.0,
+        kn: 1e9,
+        ks: 1e9,
+        joint_stiffness: false,
+        preload: Vec3::zeros(),
+        gap,
+        rel: Vec3::zeros(),
+        force: Vec3::zeros(),
+        reclosed: 0,
+        opened: false,
+        limit: 0.0,
+    }
+}

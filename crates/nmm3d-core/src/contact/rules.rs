@@ -146,3 +146,228 @@ pub(super) fn next_state(
         _ => ContactState::Stick,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::record::test_point;
+
+    const BAND: f64 = 1e-12;
+    const RECLOSE: f64 = 1e-6;
+
+    /// One row of thesis Table 3-1 (verification of the contact state) as the rules apply it.
+    struct Row {
+        what: &'static str,
+        from: ContactState,
+        gap: f64,
+        normal: f64,
+        held: [f64; 3],
+        limit: f64,
+        setup: fn(&mut ContactRecord),
+        locked: bool,
+        to: ContactState,
+    }
+
+    fn none(_: &mut ContactRecord) {}
+
+    #[test]
+    fn table_3_1_state_rules() {
+        use ContactState::{Open, Slide, Stick};
+        let rows = [
+            Row {
+                what: "separate stays separate while apart",
+                from: Open,
+                gap: 1e-4,
+                normal: 0.0,
+                held: [0.0; 3],
+                limit: 0.0,
+                setup: none,
+                locked: false,
+                to: Open,
+            },
+            Row {
+                what: "separate within the band stays separate",
+                from: Open,
+                gap: -0.5 * BAND,
+                normal: 0.0,
+                held: [0.0; 3],
+                limit: 0.0,
+                setup: none,
+                locked: false,
+                to: Open,
+            },
+            Row {
+                what: "separate → stick when it overlaps",
+                from: Open,
+                gap: -1e-6,
+                normal: 1e3,
+                held: [100.0, 0.0, 0.0],
+                limit: 500.0,
+                setup: none,
+                locked: false,
+                to: Stick,
+            },
+            Row {
+                what: "separate → slide when it closes beyond the cone",
+                from: Open,
+                gap: -1e-6,
+                normal: 1e3,
+                held: [600.0, 0.0, 0.0],
+                limit: 500.0,
+                setup: none,
+                locked: false,
+                to: Slide,
+            },
+            Row {
+                what: "a point that closed twice this step stays separate",
+                from: Open,
+                gap: -1e-6,
+                normal: 1e3,
+                held: [0.0; 3],
+                limit: 500.0,
+                setup: |r| r.reclosed = MAX_RECLOSE,
+                locked: false,
+                to: Open,
+            },
+            Row {
+                what: "a point that opened this step recloses only deeper than the reclosing depth",
+                from: Open,
+                gap: -0.5 * RECLOSE,
+                normal: 1e3,
+                held: [0.0; 3],
+                limit: 500.0,
+                setup: |r| r.opened = true,
+                locked: false,
+                to: Open,
+            },
+            Row {
+                what: "… and does reclose beyond it",
+                from: Open,
+                gap: -2.0 * RECLOSE,
+                normal: 1e3,
+                held: [0.0; 3],
+                limit: 500.0,
+                setup: |r| r.opened = true,
+                locked: false,
+                to: Stick,
+            },
+            Row {
+                what: "stick → separate in tension (P_N < 0)",
+                from: Stick,
+                gap: 1e-6,
+                normal: -1.0,
+                held: [0.0; 3],
+                limit: 0.0,
+                setup: none,
+                locked: false,
+                to: Open,
+            },
+            Row {
+                what: "a bond holds tension below its strength",
+                from: Stick,
+                gap: 1e-6,
+                normal: -1.0,
+                held: [0.0; 3],
+                limit: 0.0,
+                setup: |r| r.strength.tension = 10.0,
+                locked: false,
+                to: Stick,
+            },
+            Row {
+                what: "stick stays stick inside the cone",
+                from: Stick,
+                gap: -1e-6,
+                normal: 1e3,
+                held: [400.0, 0.0, 0.0],
+                limit: 500.0,
+                setup: none,
+                locked: false,
+                to: Stick,
+            },
+            Row {
+                what: "stick → slide beyond the cone (|P_T| ≥ μ|P_N|)",
+                from: Stick,
+                gap: -1e-6,
+                normal: 1e3,
+                held: [0.0, 600.0, 0.0],
+                limit: 500.0,
+                setup: none,
+                locked: false,
+                to: Slide,
+            },
+            Row {
+                what: "slide → separate in tension",
+                from: Slide,
+                gap: 1e-6,
+                normal: -1.0,
+                held: [0.0; 3],
+                limit: 0.0,
+                setup: |r| r.slip = Vec3::x(),
+                locked: false,
+                to: Open,
+            },
+            Row {
+                what: "slide → stick when the slip reverses",
+                from: Slide,
+                gap: -1e-6,
+                normal: 1e3,
+                held: [600.0, 0.0, 0.0],
+                limit: 500.0,
+                setup: |r| r.slip = Vec3::x(),
+                locked: false,
+                to: Stick,
+            },
+            Row {
+                what: "slide stays slide beyond the cone",
+                from: Slide,
+                gap: -1e-6,
+                normal: 1e3,
+                held: [-600.0, 0.0, 0.0],
+                limit: 500.0,
+                setup: |r| r.slip = Vec3::x(),
+                locked: false,
+                to: Slide,
+            },
+            Row {
+                what: "slide → stick back inside the cone",
+                from: Slide,
+                gap: -1e-6,
+                normal: 1e3,
+                held: [-400.0, 0.0, 0.0],
+                limit: 500.0,
+                setup: |r| r.slip = Vec3::x(),
+                locked: false,
+                to: Stick,
+            },
+            Row {
+                what: "locked (initial equilibrium): a closed point sticks in tension",
+                from: Stick,
+                gap: 1e-6,
+                normal: -1e3,
+                held: [0.0; 3],
+                limit: 0.0,
+                setup: none,
+                locked: true,
+                to: Stick,
+            },
+            Row {
+                what: "locked: and beyond the cone",
+                from: Stick,
+                gap: -1e-6,
+                normal: 1e3,
+                held: [1e6, 0.0, 0.0],
+                limit: 500.0,
+                setup: none,
+                locked: true,
+                to: Stick,
+            },
+        ];
+        for row in rows {
+            let mut r = test_point(row.from, row.gap);
+            (row.setup)(&mut r);
+            let held = Vec3::from(row.held);
+            let got = next_state(&r, row.normal, &held, row.limit, BAND, RECLOSE, row.locked);
+            assert_eq!(got, row.to, "{}", row.what);
+        }
+    }
+}

@@ -66,3 +66,81 @@ fn nearest<'a>(
         .min_by(|p, q| p.0.total_cmp(&q.0))
         .map(|(_, o)| o)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::record::test_point;
+
+    const PARAMS: ContactParams =
+        ContactParams { kn: 1e9, ks: 1e9, size: 0.5, margin: 1e-3, skin: 1e-2, tolerance: 1e-3 };
+
+    /// A new point at x on the joint, stuck and touching (as `fresh` makes it).
+    fn new_at(x: f64, gap: f64) -> ContactRecord {
+        let mut r = test_point(ContactState::Stick, gap);
+        r.a.reference.x = x;
+        r.strength.tan_phi = 0.7;
+        r
+    }
+
+    /// The previous step's point at x.
+    fn old_at(x: f64, state: ContactState) -> ContactRecord {
+        let mut r = test_point(state, -1e-6);
+        r.a.reference.x = x;
+        r.offset = 2e-5;
+        r.shear0 = Vec3::new(3e-7, 0.0, 1e-7);
+        r.slip = Vec3::x();
+        r.preload = Vec3::new(0.0, 0.0, 1e3);
+        r.strength.cohesion = 40.0;
+        r
+    }
+
+    fn transferred(new: ContactRecord, old: ContactRecord, locked: bool) -> ContactRecord {
+        let mut r = new;
+        inherit(&mut r, &[old], Some(&vec![0]), &PARAMS, locked);
+        r
+    }
+
+    #[test]
+    fn a_point_with_no_predecessor_keeps_its_fresh_state() {
+        let mut r = new_at(0.0, -1e-6);
+        inherit(&mut r, &[], None, &PARAMS, false);
+        assert_eq!((r.state, r.offset, r.shear0), (ContactState::Stick, 0.0, Vec3::zeros()));
+    }
+
+    #[test]
+    fn a_closed_predecessor_within_reach_hands_over_its_history() {
+        for state in [ContactState::Stick, ContactState::Slide] {
+            let r = transferred(new_at(0.001, -1e-6), old_at(0.0, state), false);
+            assert_eq!(r.state, state);
+            assert_eq!(r.offset, 2e-5, "the zero level is carried");
+            assert_eq!(r.gap0, -1e-6 - 2e-5);
+            assert_eq!(r.shear0, Vec3::new(3e-7, 0.0, 0.0), "shear projected on the new tangent plane");
+            assert_eq!((r.slip, r.preload), (Vec3::x(), Vec3::new(0.0, 0.0, 1e3)));
+            assert_eq!((r.strength.cohesion, r.strength.tan_phi), (40.0, 0.7), "bond kept, friction of the joint now");
+        }
+    }
+
+    #[test]
+    fn springs_pulling_beyond_the_bond_open_the_new_point_unless_locked() {
+        let old = old_at(0.0, ContactState::Stick);
+        // 2e-5 m apart once the zero level is taken off: k_n g = 20 kN of pull against a 1 kN preload.
+        assert_eq!(transferred(new_at(0.001, 4e-5), old.clone(), false).state, ContactState::Open);
+        assert_eq!(transferred(new_at(0.001, 4e-5), old, true).state, ContactState::Stick);
+    }
+
+    #[test]
+    fn beyond_reach_only_sliding_carries_over() {
+        // 10 × the tolerance away: no history, but a pair already sliding keeps sliding.
+        let r = transferred(new_at(0.02, -1e-6), old_at(0.0, ContactState::Slide), false);
+        assert_eq!((r.state, r.slip, r.strength.cohesion), (ContactState::Slide, Vec3::x(), 0.0));
+        let r = transferred(new_at(0.02, -1e-6), old_at(0.0, ContactState::Stick), false);
+        assert_eq!((r.state, r.shear0), (ContactState::Stick, Vec3::zeros()));
+    }
+
+    #[test]
+    fn an_open_predecessor_hands_over_only_the_zero_level() {
+        let r = transferred(new_at(0.001, -1e-6), old_at(0.0, ContactState::Open), false);
+        assert_eq!((r.state, r.offset, r.shear0), (ContactState::Stick, 2e-5, Vec3::zeros()));
+    }
+}
