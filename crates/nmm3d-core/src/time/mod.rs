@@ -4,9 +4,12 @@ pub mod contact_pattern;
 pub mod corotation;
 pub mod energy;
 pub mod integrator;
+mod residual;
+pub mod settle;
 pub mod snapshot;
 pub mod step_control;
 pub mod stepper;
+mod vectors;
 
 pub use energy::Energy;
 pub use integrator::Newmark;

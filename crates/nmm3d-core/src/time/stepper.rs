@@ -10,10 +10,10 @@ use std::time::Instant;
 use nmm3d_geom::Vec3;
 
 use super::contact_pattern::ContactPattern;
-use super::corotation;
 use super::energy::Energy;
 use super::integrator::{Newmark, StepCoefficients};
 use super::step_control::{self, Verdict};
+use super::vectors::{equation_vector, gather, kinetic_energy, mass_times, scale, scatter_into};
 use crate::contact::{overlap_problems, ContactParams, ContactSet};
 use crate::error::{Error, Result};
 use crate::scenario::{AnalysisKind, Stiffness};
@@ -294,65 +294,9 @@ impl Stepper {
         *energy
     }
 
-    /// Static equilibrium under the initial loads with every contact locked — the stressed
-    /// state a run starts from (the usual first stage of a jointed-rock model). Velocities,
-    /// time and step count are restored afterwards; returns (steps, final unbalanced ratio).
-    ///
-    /// First by Newton iterations of the static equilibrium (no inertia: the locked springs
-    /// hold every touching block, so a few iterations suffice, however soft the joints). Where
-    /// that cannot work — a block held by nothing makes the matrix singular, an iteration
-    /// moves too far, or 50 iterations do not converge — it goes on as before, by implicit steps whose velocity is reset each
-    /// step: the mass term regularises, at the cost of many steps for soft, rocking modes.
-    pub fn settle(&mut self, sys: &System, state: &mut State) -> Result<(u64, f64)> {
-        let (v, a, dt) = (state.v.clone(), state.a.clone(), state.dt);
-        state.v.iter_mut().chain(state.a.iter_mut()).for_each(|x| *x = Vec3::zeros());
-        self.lock(true);
-        let analysis = &sys.scenario.analysis;
-        let (mut steps, mut unbalanced) = (0, f64::INFINITY);
-        self.inertia = false;
-        while steps < analysis.max_steps {
-            // A static iteration that fails is undone before the damped steps take over.
-            let before = (!self.inertia).then(|| (state.clone(), self.contacts.as_ref().map(|c| c.records.clone())));
-            let r = match (self.step(sys, state, f64::INFINITY), before) {
-                (Ok(r), None) => r,
-                (Ok(r), Some(_)) if r.cuts == 0 && steps < MAX_STATIC_ITERATIONS => r,
-                (Ok(_) | Err(_), Some((saved, records))) => {
-                    // Not statically solvable as it stands: regularise with the mass term.
-                    *state = saved;
-                    if let (Some(c), Some(records)) = (self.contacts.as_mut(), records) {
-                        c.records = records;
-                    }
-                    self.inertia = true;
-                    state.dt = dt;
-                    continue;
-                }
-                (Err(e), None) => {
-                    self.lock(false);
-                    return Err(e);
-                }
-            };
-            steps += 1;
-            unbalanced = r.unbalanced;
-            if steps > 1 && unbalanced <= analysis.equilibrium_tolerance {
-                break;
-            }
-        }
-        self.inertia = true;
-        self.lock(false);
-        (state.v, state.a, state.dt, state.time, state.step) = (v, a, dt, 0.0, 0);
-        Ok((steps, unbalanced))
-    }
-
-    fn lock(&mut self, locked: bool) {
-        self.locked = locked;
-        if let Some(c) = self.contacts.as_mut() {
-            c.locked = locked;
-        }
-    }
-
     /// Solve, update contact states, repeat until no contact changes state.
     #[allow(clippy::too_many_arguments)] // the Newmark coefficients travel together with the vectors they scale
-    fn open_close(
+    pub(super) fn open_close(
         &mut self,
         sys: &System,
         state: &State,
@@ -391,7 +335,7 @@ impl Stepper {
 
     /// Make the sparsity pattern hold the couplings of every closed contact point (grown, with
     /// a new symbolic factorisation, when a pair of MEs closes that it lacks).
-    fn ensure_contact_pattern(&mut self, sys: &System, step: u64) {
+    pub(super) fn ensure_contact_pattern(&mut self, sys: &System, step: u64) {
         let Some(c) = self.contacts.as_ref() else { return };
         let t = Instant::now();
         if self.pattern.ensure(sys, &c.closed_pairs(), step) {
@@ -401,7 +345,7 @@ impl Stepper {
     }
 
     #[allow(clippy::too_many_arguments)] // the Newmark coefficients travel together with the vectors they scale
-    fn solve_trial(
+    pub(super) fn solve_trial(
         &mut self,
         sys: &System,
         state: &State,
@@ -434,7 +378,7 @@ impl Stepper {
         Ok(d)
     }
 
-    fn accept(&self, sys: &System, state: &mut State, d: &[Vec3], dt: f64) {
+    pub(super) fn accept(&self, sys: &System, state: &mut State, d: &[Vec3], dt: f64) {
         let k = self.newmark.coefficients(dt);
         let g = self.newmark.gamma;
         let is_static = self.locked || sys.scenario.analysis.kind == AnalysisKind::Static;
@@ -450,52 +394,6 @@ impl Stepper {
         state.time += dt;
         state.step += 1;
     }
-
-    /// Tangent into `self.tangent`, unbalanced force per cover returned; updates rotations.
-    pub fn assemble(&mut self, sys: &System, state: &mut State) -> Vec<Vec3> {
-        self.tangent.iter_mut().for_each(|v| *v = 0.0);
-        let mut residual = sys.external.clone();
-        for e in 0..sys.covers.elements.len() {
-            if sys.geometry.blocks[sys.covers.elements[e].block].fixed {
-                continue; // its covers cannot move; its forces would go nowhere
-            }
-            let f = corotation::deformation_gradient(sys, state, e);
-            let r = corotation::rotation(&f, &state.rotations[e]);
-            state.rotations[e] = r;
-            let (fint, t) = corotation::internal_force_and_tangent(sys, state, e, &r);
-            sys.assembler.add(&mut self.tangent, e, &t);
-            for (a, &c) in sys.covers.elements[e].covers.iter().enumerate() {
-                residual[c] -= fint[a];
-            }
-        }
-        self.add_penalties(sys, state, &mut residual);
-        residual
-    }
-
-    fn add_penalties(&mut self, sys: &System, state: &State, residual: &mut [Vec3]) {
-        let k = sys.penalty;
-        for p in &sys.constraints {
-            let me = &sys.covers.elements[p.element];
-            let n = me.covers.len();
-            let u: Vec3 = me.covers.iter().zip(&p.weights).map(|(&c, w)| *w * state.displacement(sys, c)).sum();
-            let mut local = vec![0.0; 9 * n * n];
-            for dir in &p.directions {
-                let nn = dir * dir.transpose();
-                for a in 0..n {
-                    residual[me.covers[a]] -= k * p.weights[a] * dir.dot(&u) * dir;
-                    for b in 0..n {
-                        let s = k * p.weights[a] * p.weights[b];
-                        for i in 0..3 {
-                            for j in 0..3 {
-                                local[(3 * a + i) * 3 * n + 3 * b + j] += s * nn[(i, j)];
-                            }
-                        }
-                    }
-                }
-            }
-            sys.assembler.add(&mut self.tangent, p.element, &local);
-        }
-    }
 }
 
 /// What an accepted step's energy accounts need besides the state.
@@ -506,72 +404,6 @@ struct Increment<'a> {
     kinetic0: f64,
     friction: f64,
     springs: f64,
-}
-
-/// ½ vᵀ M v from the velocities and their product `mv` with the mass (fixed covers excluded).
-fn kinetic_energy(sys: &System, v: &[Vec3], mv: &[Vec3]) -> f64 {
-    (0..v.len()).filter(|&c| sys.dofs.moves(c)).map(|c| 0.5 * v[c].dot(&mv[c])).sum()
-}
-
-/// Per-cover increments → the equation vector of the free covers (tied covers follow them).
-fn equation_vector(sys: &System, d: &[Vec3]) -> Vec<f64> {
-    let mut x = vec![0.0; sys.n_eq()];
-    for (c, v) in d.iter().enumerate() {
-        if let Some(e) = sys.dofs.eq(c, 0) {
-            x[e..e + 3].copy_from_slice(v.as_slice());
-        }
-    }
-    x
-}
-
-/// M w, per cover, from the element masses.
-fn mass_times(sys: &System, w: &[Vec3]) -> Vec<Vec3> {
-    let mut out = vec![Vec3::zeros(); w.len()];
-    if w.iter().all(|x| *x == Vec3::zeros()) {
-        return out;
-    }
-    // A fixed block's MEs couple only its own covers, which neither move nor take forces.
-    for (e, me) in sys.covers.elements.iter().enumerate().filter(|(_, me)| !sys.geometry.blocks[me.block].fixed) {
-        let k = sys.kernel(e);
-        let n = me.covers.len();
-        for a in 0..n {
-            let acc: Vec3 = (0..n).map(|b| k.mass[a * n + b] * w[me.covers[b]]).sum();
-            out[me.covers[a]] += acc;
-        }
-    }
-    out
-}
-
-/// Largest force magnitude on the free equations (tied covers' forces taken by their masters).
-fn scale(sys: &System, f: &[Vec3]) -> f64 {
-    gather(sys, f).chunks(3).map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()).fold(0.0, f64::max)
-}
-
-/// Per-cover forces → equation vector (a tied cover passes its force to its masters, Tᵀ f).
-fn gather(sys: &System, f: &[Vec3]) -> Vec<f64> {
-    let mut out = vec![0.0; sys.n_eq()];
-    for (c, v) in f.iter().enumerate() {
-        for (m, w) in sys.dofs.masters(c) {
-            let e = sys.dofs.eq(m, 0).expect("masters are free");
-            for i in 0..3 {
-                out[e + i] += w * v[i];
-            }
-        }
-    }
-    out
-}
-
-/// Equation vector → per-cover vectors (tied covers interpolated, fixed covers untouched).
-fn scatter_into(sys: &System, x: &[f64], out: &mut [Vec3]) {
-    let at = |c: usize| {
-        let e = sys.dofs.eq(c, 0).expect("free");
-        Vec3::new(x[e], x[e + 1], x[e + 2])
-    };
-    for (c, o) in out.iter_mut().enumerate() {
-        if sys.dofs.moves(c) {
-            *o = sys.dofs.masters(c).iter().map(|&(m, w)| w * at(m)).sum();
-        }
-    }
 }
 
 /// Contact penalties and tolerances from the scenario ("auto": k_n = 10 × largest E × cover
@@ -593,10 +425,6 @@ pub(super) fn contact_params(sys: &System) -> ContactParams {
     let margin = 2.0 * a.max_displacement_ratio * sys.half_size + tolerance;
     ContactParams { kn, ks, size, margin, skin: WARNING_SKIN * margin, tolerance }
 }
-
-/// Newton iterations of the initial equilibrium before the damped steps take over (a contact
-/// state that keeps changing between iterations would otherwise never let it converge).
-const MAX_STATIC_ITERATIONS: u64 = 50;
 
 /// Factor on the contact penalties when a contact overlaps beyond the allowed depth.
 const PENALTY_RAISE: f64 = 10.0;

@@ -1,0 +1,268 @@
+//! Analysis controls: kind, time step and its control, integrator, ordering, strain measure,
+//! penalties; the cover; contact; cutting.
+
+use serde::{Deserialize, Serialize};
+
+/// Dynamic or static analysis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum AnalysisKind {
+    /// Inertia kept; velocities carried between steps.
+    #[default]
+    Dynamic,
+    /// Velocities reset every step; runs to equilibrium.
+    Static,
+}
+
+/// Time integration scheme.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Integrator {
+    /// DDA scheme: Newmark β = ½, γ = 1 (first order, dissipative, exact for constant acceleration).
+    #[default]
+    Dda,
+    /// Newmark with `newmark_beta`, `newmark_gamma` (default ¼, ½: trapezoidal, no numerical damping).
+    Newmark,
+}
+
+/// `[analysis]`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Analysis {
+    /// "dynamic" | "static".
+    pub kind: AnalysisKind,
+    /// Simulated time to reach [s].
+    pub duration: f64,
+    /// Hard cap on accepted steps.
+    pub max_steps: u64,
+    /// Maximum (and initial) time step [s].
+    pub dt: f64,
+    /// Largest step displacement / half the model size (DDA g2) [-].
+    pub max_displacement_ratio: f64,
+    /// Gravity [m/s²].
+    pub gravity: [f64; 3],
+    /// Simulated time between saved frames [s]; 0 = only first and last.
+    pub output_interval: f64,
+    /// Simulated time between history rows [s]; absent = every accepted step.
+    pub history_interval: Option<f64>,
+    /// Time integration scheme.
+    pub integrator: Integrator,
+    /// Newmark β (only with `integrator = "newmark"`).
+    pub newmark_beta: f64,
+    /// Newmark γ (only with `integrator = "newmark"`).
+    pub newmark_gamma: f64,
+    /// Static runs stop when the unbalanced force ≤ this × the largest applied force [-].
+    pub equilibrium_tolerance: f64,
+    /// Penalty stiffness of constraints and fixed points [N/m], or "auto".
+    pub penalty_stiffness: Stiffness,
+    /// "auto" penalty = this factor × largest Young's modulus × cover size [-].
+    pub penalty_factor: f64,
+    /// Smallest time step allowed by step cuts, as a fraction of `dt` [-].
+    pub min_dt_ratio: f64,
+    /// Largest growth of the time step between accepted steps [-].
+    pub max_dt_growth: f64,
+    /// Step displacement ratio aimed at when the step is resized [-].
+    pub target_displacement_ratio: f64,
+    /// A run whose displacement ratio exceeds this after the smallest step is diverging [-].
+    pub divergence_ratio: f64,
+    /// Fill-reducing ordering of the sparse factorisation.
+    pub ordering: Ordering,
+    /// Open–close iterations per step before the step is cut.
+    pub max_open_close: u32,
+    /// Factor applied to Δt when the open–close iteration does not settle [-].
+    pub open_close_cut: f64,
+    /// The open–close iteration has settled when the contact forces the last solve applied
+    /// differ from those of the updated states by at most this fraction of their sum [-]
+    /// (0, the default: only when no point changes state; 1e-3 suits jointed rock masses).
+    pub open_close_tolerance: f64,
+    /// Strain measure: "corotational" (small strain in each ME's rotated frame) or
+    /// "green_lagrange" (St Venant–Kirchhoff for large strains).
+    pub strain_measure: StrainMeasure,
+    /// Before the run, solve the static equilibrium under the initial loads with every contact
+    /// locked (no sliding, no opening), then start from that state with the given velocities
+    /// at t = 0 (addition).
+    pub initial_equilibrium: bool,
+    /// Wall-clock seconds between checkpoints written during a run (`checkpoint.json`, for
+    /// `--resume`); one is always written when a run completes or is interrupted; 0 = only
+    /// then [s] (addition).
+    pub checkpoint_interval: f64,
+}
+
+/// Fill-reducing ordering of the sparse Cholesky factorisation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Ordering {
+    /// Nested dissection for large systems (≥ 2000 covers), AMD below.
+    #[default]
+    Auto,
+    /// Approximate minimum degree.
+    Amd,
+    /// METIS nested dissection.
+    NestedDissection,
+}
+
+/// How strain is measured in each manifold element.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StrainMeasure {
+    /// Linear strain in the ME's co-rotated frame: exact for large rotations, small strains.
+    #[default]
+    Corotational,
+    /// Green–Lagrange strain with second Piola–Kirchhoff stress (St Venant–Kirchhoff).
+    GreenLagrange,
+}
+
+impl Default for Analysis {
+    fn default() -> Self {
+        Self {
+            kind: AnalysisKind::Dynamic,
+            duration: 1.0,
+            max_steps: 200_000,
+            dt: 0.001,
+            max_displacement_ratio: 0.001,
+            gravity: [0.0, 0.0, -9.81],
+            output_interval: 0.05,
+            history_interval: None,
+            integrator: Integrator::Dda,
+            newmark_beta: 0.25,
+            newmark_gamma: 0.5,
+            equilibrium_tolerance: 1e-7,
+            penalty_stiffness: Stiffness::Auto,
+            penalty_factor: 1e4,
+            min_dt_ratio: 1e-4,
+            max_dt_growth: 1.2,
+            target_displacement_ratio: 0.8,
+            divergence_ratio: 1e3,
+            strain_measure: StrainMeasure::Corotational,
+            ordering: Ordering::Auto,
+            max_open_close: 12,
+            open_close_cut: 0.3,
+            open_close_tolerance: 0.0,
+            initial_equilibrium: false,
+            checkpoint_interval: 600.0,
+        }
+    }
+}
+
+/// A stiffness [N/m] or "auto".
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Stiffness {
+    /// Chosen from the model (documented per key).
+    #[default]
+    Auto,
+    /// Given value [N/m].
+    Value(f64),
+}
+
+impl Serialize for Stiffness {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            Stiffness::Auto => s.serialize_str("auto"),
+            Stiffness::Value(v) => s.serialize_f64(*v),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Stiffness {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        #[derive(Deserialize)]
+        #[serde(untagged)]
+        enum Raw {
+            Num(f64),
+            Int(i64),
+            Text(String),
+        }
+        match Raw::deserialize(d)? {
+            Raw::Num(v) => Ok(Stiffness::Value(v)),
+            Raw::Int(v) => Ok(Stiffness::Value(v as f64)),
+            Raw::Text(t) if t == "auto" => Ok(Stiffness::Auto),
+            Raw::Text(t) => Err(serde::de::Error::custom(format!("expected a number or \"auto\", found \"{t}\""))),
+        }
+    }
+}
+
+/// Decomposition of the cubic cells of the mathematical mesh.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum PatternKind {
+    /// Five tetrahedra, mirrored plans alternating (conforming).
+    Tet5,
+    /// Six tetrahedra around the main diagonal (Kuhn / Freudenthal).
+    #[default]
+    Tet6,
+    /// 24 tetrahedra from face and body centres.
+    Tet24,
+    /// One trilinear hexahedron.
+    Hex8,
+}
+
+/// `[cover]`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct CoverSpec {
+    /// Pattern.
+    pub pattern: PatternKind,
+    /// Edge of the cubic cells [m]; absent = a tenth of the smallest model extent.
+    pub size: Option<f64>,
+    /// A mesh node [m].
+    pub origin: [f64; 3],
+    /// Rotation of the mesh about x, then y, then z [deg].
+    pub rotation: [f64; 3],
+    /// An ME smaller than this fraction of its sub-cell does not anchor its covers; covers
+    /// with no anchoring ME are tied to the nearest anchored ME (aggregation) [-]; 0 = off.
+    pub aggregation_threshold: f64,
+}
+
+impl Default for CoverSpec {
+    fn default() -> Self {
+        Self {
+            pattern: PatternKind::Tet6,
+            size: None,
+            origin: [0.0; 3],
+            rotation: [0.0; 3],
+            aggregation_threshold: 0.1,
+        }
+    }
+}
+
+/// `[contact]`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ContactSpec {
+    /// Contact between blocks (addition; `false` lets blocks pass through each other, for
+    /// continuum checks).
+    pub enabled: bool,
+    /// Normal penalty [N/m] or "auto".
+    pub normal_stiffness: Stiffness,
+    /// Shear penalty [N/m] or "auto".
+    pub shear_stiffness: Stiffness,
+    /// Largest contact overlap allowed at the end of a step, as a fraction of the cover size;
+    /// beyond it the step is cut (addition) [-].
+    pub max_penetration_ratio: f64,
+}
+
+impl Default for ContactSpec {
+    fn default() -> Self {
+        Self {
+            enabled: true,
+            normal_stiffness: Stiffness::Auto,
+            shear_stiffness: Stiffness::Auto,
+            max_penetration_ratio: 0.01,
+        }
+    }
+}
+
+/// `[cutting]`: controls of the rock-mass cutting.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct CuttingSpec {
+    /// A block smaller than this fraction of its largest neighbour is merged into it
+    /// (dropped if it has none) [-]; 0 = keep every block.
+    pub sliver_ratio: f64,
+}
+
+impl Default for CuttingSpec {
+    fn default() -> Self {
+        Self { sliver_ratio: 1e-4 }
+    }
+}

@@ -1,0 +1,71 @@
+//! The initial equilibrium: the static state under the initial loads with every contact locked,
+//! from which a run starts at t = 0.
+
+use nmm3d_geom::Vec3;
+
+use super::stepper::Stepper;
+use crate::error::Result;
+use crate::state::State;
+use crate::system::System;
+
+impl Stepper {
+    /// Static equilibrium under the initial loads with every contact locked — the stressed
+    /// state a run starts from (the usual first stage of a jointed-rock model). Velocities,
+    /// time and step count are restored afterwards; returns (steps, final unbalanced ratio).
+    ///
+    /// First by Newton iterations of the static equilibrium (no inertia: the locked springs
+    /// hold every touching block, so a few iterations suffice, however soft the joints). Where
+    /// that cannot work — a block held by nothing makes the matrix singular, an iteration
+    /// moves too far, or 50 iterations do not converge — it goes on as before, by implicit steps whose velocity is reset each
+    /// step: the mass term regularises, at the cost of many steps for soft, rocking modes.
+    pub fn settle(&mut self, sys: &System, state: &mut State) -> Result<(u64, f64)> {
+        let (v, a, dt) = (state.v.clone(), state.a.clone(), state.dt);
+        state.v.iter_mut().chain(state.a.iter_mut()).for_each(|x| *x = Vec3::zeros());
+        self.lock(true);
+        let analysis = &sys.scenario.analysis;
+        let (mut steps, mut unbalanced) = (0, f64::INFINITY);
+        self.inertia = false;
+        while steps < analysis.max_steps {
+            // A static iteration that fails is undone before the damped steps take over.
+            let before = (!self.inertia).then(|| (state.clone(), self.contacts.as_ref().map(|c| c.records.clone())));
+            let r = match (self.step(sys, state, f64::INFINITY), before) {
+                (Ok(r), None) => r,
+                (Ok(r), Some(_)) if r.cuts == 0 && steps < MAX_STATIC_ITERATIONS => r,
+                (Ok(_) | Err(_), Some((saved, records))) => {
+                    // Not statically solvable as it stands: regularise with the mass term.
+                    *state = saved;
+                    if let (Some(c), Some(records)) = (self.contacts.as_mut(), records) {
+                        c.records = records;
+                    }
+                    self.inertia = true;
+                    state.dt = dt;
+                    continue;
+                }
+                (Err(e), None) => {
+                    self.lock(false);
+                    return Err(e);
+                }
+            };
+            steps += 1;
+            unbalanced = r.unbalanced;
+            if steps > 1 && unbalanced <= analysis.equilibrium_tolerance {
+                break;
+            }
+        }
+        self.inertia = true;
+        self.lock(false);
+        (state.v, state.a, state.dt, state.time, state.step) = (v, a, dt, 0.0, 0);
+        Ok((steps, unbalanced))
+    }
+
+    fn lock(&mut self, locked: bool) {
+        self.locked = locked;
+        if let Some(c) = self.contacts.as_mut() {
+            c.locked = locked;
+        }
+    }
+}
+
+/// Newton iterations of the initial equilibrium before the damped steps take over (a contact
+/// state that keeps changing between iterations would otherwise never let it converge).
+const MAX_STATIC_ITERATIONS: u64 = 50;
