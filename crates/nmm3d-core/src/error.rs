@@ -24,12 +24,14 @@ pub enum Error {
         problems: Vec<Problem>,
     },
     /// The linear system could not be factorised.
-    #[error("linear solver failed at step {step}: {reason}")]
+    #[error("linear solver failed at step {step}: {reason}{}", pivot.as_ref().map(Pivot::describe).unwrap_or_default())]
     Solver {
         /// Step number.
         step: u64,
         /// Solver message.
         reason: String,
+        /// Where the factorisation met a non-positive pivot, when it did.
+        pivot: Option<Pivot>,
     },
     /// The run diverged (NaN, runaway displacement, no acceptable step).
     #[error("run diverged at step {step} (t = {time:.6} s): {reason}")]
@@ -54,6 +56,32 @@ pub enum Error {
 fn format_problems(file: &str, problems: &[Problem]) -> String {
     let lines: Vec<String> = problems.iter().map(|p| format!("{file}: {}: {}", p.path, p.reason)).collect();
     lines.join("\n")
+}
+
+/// The equation at which a Cholesky factorisation met a non-positive pivot, and what it belongs to.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pivot {
+    /// Equation (row of the system matrix, 3 per free cover).
+    pub equation: usize,
+    /// Physical cover of the equation.
+    pub cover: usize,
+    /// Block of the cover.
+    pub block: usize,
+    /// Body of the block.
+    pub body: String,
+    /// Position of the cover's node [m].
+    pub position: [f64; 3],
+}
+
+impl Pivot {
+    fn describe(&self) -> String {
+        let [x, y, z] = self.position;
+        format!(
+            " (the pivot of equation {} — cover {} of block {} of body '{}', node at ({x:.4}, {y:.4}, {z:.4}) — is not positive: \
+             that block may be free to move without inertia, or a penalty far too large)",
+            self.equation, self.cover, self.block, self.body
+        )
+    }
 }
 
 impl Error {

@@ -7,6 +7,7 @@
 use std::time::Instant;
 
 use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt::factor::LltError;
 use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
@@ -16,7 +17,7 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
 use super::ordering::{nested_dissection, Permutation};
-use super::LinearSolver;
+use super::{LinearSolver, SolverFailure};
 use crate::assembly::SparsityPattern;
 use crate::scenario::Ordering;
 
@@ -47,7 +48,7 @@ impl FaerCholesky {
         self.ordering
     }
 
-    fn analyse(&mut self, p: &SparsityPattern) -> Result<(), String> {
+    fn analyse(&mut self, p: &SparsityPattern) -> Result<(), SolverFailure> {
         let t = Instant::now();
         let sym = SymbolicSparseColMatRef::new_checked(p.n, p.n, &p.col_ptr, None, &p.row_idx);
         let nd: Option<Permutation> = nested_dissection(p, self.choice);
@@ -64,7 +65,8 @@ impl FaerCholesky {
             supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
             ..Default::default()
         };
-        let s = factorize_symbolic_cholesky(sym, Side::Lower, ord, params).map_err(|e| format!("{e:?}"))?;
+        let s = factorize_symbolic_cholesky(sym, Side::Lower, ord, params)
+            .map_err(|e| SolverFailure::Analysis(format!("{e:?}")))?;
         self.values = vec![0.0; s.len_val()];
         self.scratch = Some(MemBuffer::new(s.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())));
         self.solve_scratch = None;
@@ -75,7 +77,7 @@ impl FaerCholesky {
 }
 
 impl LinearSolver for FaerCholesky {
-    fn factorize(&mut self, p: &SparsityPattern, values: &[f64]) -> Result<(), String> {
+    fn factorize(&mut self, p: &SparsityPattern, values: &[f64]) -> Result<(), SolverFailure> {
         if self.symbolic.is_none() {
             self.analyse(p)?;
         }
@@ -84,8 +86,21 @@ impl LinearSolver for FaerCholesky {
         let sym = SymbolicSparseColMatRef::new_checked(p.n, p.n, &p.col_ptr, None, &p.row_idx);
         let mat = SparseColMatRef::new(sym, values);
         let mem = self.scratch.as_mut().expect("allocated with the symbolic factorisation");
-        s.factorize_numeric_llt::<f64>(&mut self.values, mat, Side::Lower, Default::default(), Par::Seq, MemStack::new(mem), Default::default())
-            .map_err(|e| format!("the system matrix is not positive definite ({e:?}): a body may be free to move without inertia, or a penalty may be far too large"))?;
+        s.factorize_numeric_llt::<f64>(
+            &mut self.values,
+            mat,
+            Side::Lower,
+            Default::default(),
+            Par::Seq,
+            MemStack::new(mem),
+            Default::default(),
+        )
+        .map_err(|e| {
+            let LltError::NonPositivePivot { index } = e;
+            // The index is in the fill-reducing order; report the original equation.
+            let equation = s.perm().map_or(index, |perm| perm.arrays().0[index] as usize);
+            SolverFailure::NotPositiveDefinite { equation }
+        })?;
         self.numeric_seconds += t.elapsed().as_secs_f64();
         Ok(())
     }
@@ -113,5 +128,47 @@ impl LinearSolver for FaerCholesky {
 
     fn timings(&self) -> (f64, f64) {
         (self.symbolic_seconds, self.numeric_seconds)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A chain through the equations in a scrambled order (i → 5 i mod n), so the fill-reducing
+    /// order is far from the identity and from its own inverse.
+    fn chain(n: usize, diagonal: impl Fn(usize) -> f64) -> (SparsityPattern, Vec<f64>) {
+        let order: Vec<usize> = (0..n).map(|i| 5 * i % n).collect();
+        let mut lower: Vec<Vec<usize>> = (0..n).map(|j| vec![j]).collect();
+        for w in order.windows(2) {
+            lower[w[0].min(w[1])].push(w[0].max(w[1]));
+        }
+        let (mut col_ptr, mut row_idx, mut values) = (vec![0u32], Vec::new(), Vec::new());
+        for (j, mut rows) in lower.into_iter().enumerate() {
+            rows.sort_unstable();
+            for i in rows {
+                row_idx.push(i as u32);
+                values.push(if i == j { diagonal(j) } else { 0.1 });
+            }
+            col_ptr.push(row_idx.len() as u32);
+        }
+        (SparsityPattern { n, col_ptr, row_idx }, values)
+    }
+
+    #[test]
+    fn a_non_positive_pivot_is_reported_at_its_own_equation() {
+        for ordering in [Ordering::Amd, Ordering::NestedDissection, Ordering::Auto] {
+            for bad in [3, 7, 11] {
+                let (p, v) = chain(12, |j| if j == bad { -1.0 } else { 10.0 });
+                let mut s = FaerCholesky::new(ordering);
+                assert_eq!(
+                    s.factorize(&p, &v),
+                    Err(SolverFailure::NotPositiveDefinite { equation: bad }),
+                    "{ordering:?}"
+                );
+            }
+            let (p, v) = chain(12, |_| 10.0);
+            assert_eq!(FaerCholesky::new(ordering).factorize(&p, &v), Ok(()));
+        }
     }
 }

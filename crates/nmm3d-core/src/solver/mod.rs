@@ -8,11 +8,23 @@ pub use faer_cholesky::FaerCholesky;
 
 use crate::assembly::SparsityPattern;
 
+/// Why a factorisation failed.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SolverFailure {
+    /// A non-positive pivot at this equation (original numbering): not positive definite.
+    NotPositiveDefinite {
+        /// The equation.
+        equation: usize,
+    },
+    /// The symbolic analysis failed.
+    Analysis(String),
+}
+
 /// A factorise-then-solve linear solver for a fixed sparsity pattern.
 pub trait LinearSolver: Send {
     /// Factorise the matrix with the given pattern (lower triangle) and values. The symbolic
     /// analysis (ordering, elimination tree) is done on the first call and reused.
-    fn factorize(&mut self, pattern: &SparsityPattern, values: &[f64]) -> Result<(), String>;
+    fn factorize(&mut self, pattern: &SparsityPattern, values: &[f64]) -> Result<(), SolverFailure>;
     /// The pattern changed: the next factorisation redoes the symbolic analysis (the time
     /// counters keep running).
     fn new_pattern(&mut self);

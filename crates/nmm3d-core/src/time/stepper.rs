@@ -13,7 +13,7 @@ use super::contact_pattern::ContactPattern;
 use super::energy::Energy;
 use super::integrator::{Newmark, StepCoefficients};
 use super::step_control::{self, Verdict};
-use super::vectors::{equation_vector, gather, kinetic_energy, mass_times, scale, scatter_into};
+use super::vectors::{equation_vector, gather, kinetic_energy, mass_times, scale, scatter_into, solver_error};
 use crate::contact::{overlap_problems, ContactParams, ContactSet};
 use crate::error::{Error, Result};
 use crate::scenario::{AnalysisKind, Stiffness};
@@ -141,9 +141,7 @@ impl Stepper {
         self.force_scale = scale(sys, &residual).max(scale(sys, &sys.external));
         if sys.scenario.analysis.kind == AnalysisKind::Dynamic && self.newmark.uses_acceleration() && sys.n_eq() > 0 {
             self.pattern.combine(sys, (0.0, &self.tangent), (1.0, &sys.mass_values), &mut self.values);
-            self.solver
-                .factorize(self.pattern.pattern(sys), &self.values)
-                .map_err(|r| Error::Solver { step: 0, reason: r })?;
+            self.solver.factorize(self.pattern.pattern(sys), &self.values).map_err(|f| solver_error(sys, 0, f))?;
             let mut rhs = gather(sys, &residual);
             self.solver.solve(&mut rhs);
             scatter_into(sys, &rhs, &mut state.a);
@@ -365,7 +363,7 @@ impl Stepper {
         }
         self.solver
             .factorize(self.pattern.pattern(sys), &self.values)
-            .map_err(|r| Error::Solver { step: state.step + 1, reason: r })?;
+            .map_err(|f| solver_error(sys, state.step + 1, f))?;
         self.times.factorization += t.elapsed().as_secs_f64();
         let t = Instant::now();
         let rhs_cover: Vec<Vec3> =

@@ -4,6 +4,8 @@
 
 use nmm3d_geom::Vec3;
 
+use crate::error::{Error, Pivot};
+use crate::solver::SolverFailure;
 use crate::system::System;
 
 /// ½ vᵀ M v from the velocities and their product `mv` with the mass (fixed covers excluded).
@@ -68,6 +70,26 @@ pub(super) fn scatter_into(sys: &System, x: &[f64], out: &mut [Vec3]) {
     for (c, o) in out.iter_mut().enumerate() {
         if sys.dofs.moves(c) {
             *o = sys.dofs.masters(c).iter().map(|&(m, w)| w * at(m)).sum();
+        }
+    }
+}
+
+/// The run error of a failed factorisation at `step`, naming the cover, block and body of a
+/// non-positive pivot's equation.
+pub(super) fn solver_error(sys: &System, step: u64, failure: SolverFailure) -> Error {
+    match failure {
+        SolverFailure::Analysis(reason) => {
+            Error::Solver { step, reason: format!("the symbolic analysis failed: {reason}"), pivot: None }
+        }
+        SolverFailure::NotPositiveDefinite { equation } => {
+            let cover = (0..sys.covers.covers.len())
+                .find(|&c| sys.dofs.eq(c, 0).is_some_and(|e| (e..e + 3).contains(&equation)));
+            let pivot = cover.map(|c| {
+                let pc = &sys.covers.covers[c];
+                let body = sys.scenario.body[sys.geometry.blocks[pc.block].body].name.clone();
+                Pivot { equation, cover: c, block: pc.block, body, position: pc.position.into() }
+            });
+            Error::Solver { step, reason: "the system matrix is not positive definite".into(), pivot }
         }
     }
 }
