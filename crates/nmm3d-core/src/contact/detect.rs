@@ -75,7 +75,7 @@ impl ContactSet {
                     current: (&current[i], &current[j]),
                     facets: (facets_of(i), facets_of(j)),
                 };
-                Some((i, j, c.normal, candidates(sys, state, &on, &c, p.tolerance)))
+                Some((i, j, c.normal, candidates(sys, state, &on, &c, (p.tolerance, p.merge))))
             })
             .collect();
         let previous = std::mem::take(&mut self.records);
@@ -110,22 +110,15 @@ struct Surfaces<'a> {
 
 /// Contact point candidates of a detected pair: on the facets for a face-to-face contact, else
 /// the piece-level points (area shared equally).
-fn candidates(sys: &System, state: &State, on: &Surfaces, c: &Contact, tol: f64) -> Vec<Candidate> {
+fn candidates(sys: &System, state: &State, on: &Surfaces, c: &Contact, (tol, merge): (f64, f64)) -> Vec<Candidate> {
     let ((pa, pb), (ca, cb)) = (on.pieces, on.current);
     let n = c.normal;
     let level = |p: &ConvexPolyhedron, f: fn(f64, f64) -> f64, init: f64| {
         p.faces.iter().flat_map(|x| x.vertices.iter()).map(|v| n.dot(v)).fold(init, f)
     };
     let (level_a, level_b) = (level(ca, f64::min, f64::INFINITY), level(cb, f64::max, f64::NEG_INFINITY));
-    let on_facets = facets::overlay(
-        sys,
-        (&pa.facets, on.facets.0),
-        (&pb.facets, on.facets.1),
-        &n,
-        (level_a, level_b),
-        tol,
-        MERGE * tol,
-    );
+    let on_facets =
+        facets::overlay(sys, (&pa.facets, on.facets.0), (&pb.facets, on.facets.1), &n, (level_a, level_b), tol, merge);
     if !on_facets.is_empty() {
         return on_facets;
     }
@@ -144,11 +137,6 @@ fn candidates(sys: &System, state: &State, on: &Surfaces, c: &Contact, tol: f64)
         })
         .collect()
 }
-
-/// Facet overlay corners closer than this multiple of the support tolerance are one point (the
-/// thinning distance of the piece-level points): near-identical facets of A and B would
-/// otherwise give near-duplicate crossings that come and go as the blocks move.
-const MERGE: f64 = 10.0;
 
 /// The joint between two blocks: an interface naming both bodies, else A's body joint, else B's.
 fn joint_between(sys: &System, a: usize, b: usize) -> Option<&Joint> {

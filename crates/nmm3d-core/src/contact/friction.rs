@@ -56,7 +56,7 @@ mod tests {
     use crate::contact::set::ContactTimes;
 
     fn set_of(r: ContactRecord) -> ContactSet {
-        let params = ContactParams { kn: 1e9, ks: 1e9, size: 0.5, margin: 1e-3, skin: 1e-2, tolerance: 1e-3 };
+        let params = ContactParams::for_test();
         ContactSet {
             pieces: Vec::new(),
             records: vec![r],

@@ -120,12 +120,21 @@ pub struct ContactParams {
     pub skin: f64,
     /// Support tolerance and transfer distance [m].
     pub tolerance: f64,
+    /// Half-width of the open–close hysteresis on the gap [m].
+    pub band: f64,
+    /// Overlap at which a point that opened during the step's iterations closes again [m].
+    pub reclose: f64,
+    /// Closings within one step's iterations after which a point stays open.
+    pub max_reclose: u32,
+    /// Settled change of the friction forces, relative to the largest limit [-].
+    pub slip_turn: f64,
+    /// Gap below which a new point is touching [m].
+    pub touching: f64,
+    /// Smallest stiffness share of a point of an area contact [-].
+    pub min_share: f64,
+    /// Distance under which facet-overlay corners are one point [m].
+    pub merge: f64,
 }
-
-/// A new point whose gap is below this fraction of the support tolerance is touching (closed):
-/// coordinates given to a few digits must not turn blocks placed on each other into a fall and
-/// an impact. At the start such a point's gap becomes its zero level (`offset`).
-const TOUCHING: f64 = 1e-3;
 
 impl ContactRecord {
     /// A point detected now, before any transfer: touching points are closed (stuck), and at
@@ -140,7 +149,7 @@ impl ContactRecord {
         p: &ContactParams,
     ) -> Self {
         // Touching counts as closed: blocks placed on each other start in contact.
-        let touching = q.gap <= TOUCHING * p.tolerance;
+        let touching = q.gap <= p.touching;
         let bonded = initial && touching;
         let area = q.area;
         let strength = |f: fn(&Joint) -> f64| if bonded { joint.map_or(0.0, f) * area } else { 0.0 };
@@ -150,7 +159,7 @@ impl ContactRecord {
                 let a = if area > 0.0 { area } else { p.size * p.size };
                 (kn * a, ks * a, true)
             }
-            None => (p.kn * stiffness_share(area, p.size), p.ks * stiffness_share(area, p.size), false),
+            None => (p.kn * stiffness_share(area, p), p.ks * stiffness_share(area, p), false),
         };
         Self {
             blocks,
@@ -200,17 +209,14 @@ pub(super) fn tangential(n: &Vec3) -> Mat3 {
 
 /// A point's penalties relative to `ContactParams::kn`, `ks`: its share of the contact area
 /// over one cover cell's face (size²), so a face carries the same stiffness per area however
-/// finely its points fall (at least [`MIN_SHARE`]); a point contact (no area) takes them whole.
-fn stiffness_share(area: f64, size: f64) -> f64 {
+/// finely its points fall (at least `min_share`); a point contact (no area) takes them whole.
+fn stiffness_share(area: f64, p: &ContactParams) -> f64 {
     if area > 0.0 {
-        (area / (size * size)).max(MIN_SHARE)
+        (area / (p.size * p.size)).max(p.min_share)
     } else {
         1.0
     }
 }
-
-/// Smallest stiffness share of a point of an area contact.
-const MIN_SHARE: f64 = 0.05;
 
 /// In-situ traction on A's surface (outward normal −n) at `x`: σ₀(x)·(−n) [Pa].
 fn in_situ_traction(sys: &System, x: &Vec3, n: &Vec3) -> Vec3 {
@@ -250,5 +256,29 @@ pub(super) fn test_point(state: ContactState, gap: f64) -> ContactRecord {
         reclosed: 0,
         opened: false,
         limit: 0.0,
+    }
+}
+
+#[cfg(test)]
+impl ContactParams {
+    /// The parameters of a 0.5 m cover with the default scenario keys, penalties 1e9 N/m.
+    pub(super) fn for_test() -> Self {
+        let size = 0.5;
+        let tolerance = 1e-3 * size;
+        Self {
+            kn: 1e9,
+            ks: 1e9,
+            size,
+            margin: 2.0 * tolerance,
+            skin: 4.0 * tolerance,
+            tolerance,
+            band: 1e-10 * size,
+            reclose: 1e-3 * tolerance,
+            max_reclose: 2,
+            slip_turn: 0.017_45,
+            touching: 1e-3 * tolerance,
+            min_share: 0.05,
+            merge: 10.0 * tolerance,
+        }
     }
 }

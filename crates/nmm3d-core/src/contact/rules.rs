@@ -15,8 +15,7 @@ impl ContactSet {
     /// points, relative to the sum of the updated forces).
     pub fn update_states(&mut self, sys: &System, d: &[Vec3]) -> (usize, f64) {
         let locked = self.locked;
-        let band = GAP_BAND * self.params.size;
-        let reclose = RECLOSE_DEPTH * self.params.tolerance;
+        let (band, reclose, max_reclose) = (self.params.band, self.params.reclose, self.params.max_reclose);
         let mut changed = 0;
         // Largest change of a sliding point's friction force, and the largest friction limit.
         let (mut turned, mut largest) = (0.0f64, 0.0f64);
@@ -48,7 +47,7 @@ impl ContactSet {
             let s = r.strength;
             let limit = s.tan_phi * normal.max(0.0) + s.cohesion;
             let closing = r.state == ContactState::Open;
-            let new = next_state(r, normal, &held, limit, band, reclose, locked);
+            let new = next_state(r, normal, &held, limit, (band, reclose, max_reclose), locked);
             if new == ContactState::Slide && held.norm() > 0.0 {
                 // A slips against the force that would hold it.
                 largest = largest.max(limit);
@@ -89,28 +88,12 @@ impl ContactSet {
         // normal force, its direction from the last trial): if some sliding point's friction
         // changed by more than the tolerance (relative to the largest friction force), iterate
         // again, as for a change of state.
-        if turned > SLIP_TURN * largest {
+        if turned > self.params.slip_turn * largest {
             changed += 1;
         }
         (changed, if total > 0.0 { mismatch / total } else { 0.0 })
     }
 }
-
-/// Half-width of the open–close hysteresis as a fraction of the cover size (far below
-/// elastic contact deformations, far above the round-off of gaps).
-pub(super) const GAP_BAND: f64 = 1e-10;
-
-/// Overlap, as a fraction of the support tolerance, at which a point that opened during the
-/// step's iterations closes again.
-const RECLOSE_DEPTH: f64 = 1e-3;
-
-/// Closings of a point within one step's open–close iterations after which it stays open.
-const MAX_RECLOSE: u32 = 2;
-
-/// Largest change of a sliding point's friction force between two open–close iterations,
-/// relative to the largest friction limit, that counts as converged (about a 1° turn, or a
-/// 1.7 % change, of the largest).
-const SLIP_TURN: f64 = 0.017_45;
 
 /// The state of point `r` after a solve (the table of the module documentation), from its
 /// normal force, elastic trial shear force `held` and Coulomb limit, with hysteresis of ±`band`
@@ -120,8 +103,7 @@ pub(super) fn next_state(
     normal: f64,
     held: &Vec3,
     limit: f64,
-    band: f64,
-    reclose: f64,
+    (band, reclose, max_reclose): (f64, f64, u32),
     locked: bool,
 ) -> ContactState {
     let closing = r.state == ContactState::Open;
@@ -131,7 +113,7 @@ pub(super) fn next_state(
         // step's iterations stays open (it sits where the pressure changes sign and would flip
         // for ever); one that opened closes again only at the re-closing depth (small overlaps
         // there are rocking within the iteration, not contact).
-        ContactState::Open if r.gap > -band || r.reclosed >= MAX_RECLOSE => ContactState::Open,
+        ContactState::Open if r.gap > -band || r.reclosed >= max_reclose => ContactState::Open,
         ContactState::Open if r.opened && r.gap > -reclose => ContactState::Open,
         _ if locked => ContactState::Stick,
         // Tension beyond the bond (and the band's spring force) opens a closed point.
@@ -225,7 +207,7 @@ mod tests {
                 normal: 1e3,
                 held: [0.0; 3],
                 limit: 500.0,
-                setup: |r| r.reclosed = MAX_RECLOSE,
+                setup: |r| r.reclosed = 2,
                 locked: false,
                 to: Open,
             },
@@ -366,7 +348,7 @@ mod tests {
             let mut r = test_point(row.from, row.gap);
             (row.setup)(&mut r);
             let held = Vec3::from(row.held);
-            let got = next_state(&r, row.normal, &held, row.limit, BAND, RECLOSE, row.locked);
+            let got = next_state(&r, row.normal, &held, row.limit, (BAND, RECLOSE, 2), row.locked);
             assert_eq!(got, row.to, "{}", row.what);
         }
     }

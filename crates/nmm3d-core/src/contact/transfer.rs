@@ -4,7 +4,6 @@
 use nmm3d_geom::Vec3;
 
 use super::record::{tangential, ContactParams, ContactRecord, ContactState, Strength};
-use super::rules::GAP_BAND;
 
 /// Transfer to a new point `r` what its predecessor — the previous point of the same block
 /// pair nearest it — carried: zero level always; state, shear, slip, preload and bond when the
@@ -28,7 +27,7 @@ pub(super) fn inherit(
         if old.state != ContactState::Open {
             // Still closed unless the springs would pull harder than the bond holds.
             let pull = r.kn * r.gap0 - r.normal.dot(&old.preload);
-            let band = GAP_BAND * p.size * r.kn;
+            let band = p.band * r.kn;
             r.state = if locked || pull <= old.strength.tension + band { old.state } else { ContactState::Open };
             r.shear0 = tangential(&r.normal) * old.shear0;
             r.slip = old.slip;
@@ -72,9 +71,6 @@ mod tests {
     use super::*;
     use crate::contact::record::test_point;
 
-    const PARAMS: ContactParams =
-        ContactParams { kn: 1e9, ks: 1e9, size: 0.5, margin: 1e-3, skin: 1e-2, tolerance: 1e-3 };
-
     /// A new point at x on the joint, stuck and touching (as `fresh` makes it).
     fn new_at(x: f64, gap: f64) -> ContactRecord {
         let mut r = test_point(ContactState::Stick, gap);
@@ -97,14 +93,14 @@ mod tests {
 
     fn transferred(new: ContactRecord, old: ContactRecord, locked: bool) -> ContactRecord {
         let mut r = new;
-        inherit(&mut r, &[old], Some(&vec![0]), &PARAMS, locked);
+        inherit(&mut r, &[old], Some(&vec![0]), &ContactParams::for_test(), locked);
         r
     }
 
     #[test]
     fn a_point_with_no_predecessor_keeps_its_fresh_state() {
         let mut r = new_at(0.0, -1e-6);
-        inherit(&mut r, &[], None, &PARAMS, false);
+        inherit(&mut r, &[], None, &ContactParams::for_test(), false);
         assert_eq!((r.state, r.offset, r.shear0), (ContactState::Stick, 0.0, Vec3::zeros()));
     }
 

@@ -51,6 +51,24 @@ pub fn problems(s: &Scenario) -> Vec<Problem> {
         }
     }
     c.positive("contact.max_penetration_ratio", s.contact.max_penetration_ratio);
+    let k = &s.contact;
+    for (key, v) in [
+        ("auto_penalty_factor", k.auto_penalty_factor),
+        ("tolerance_ratio", k.tolerance_ratio),
+        ("warning_skin", k.warning_skin),
+        ("overlap_tolerance", k.overlap_tolerance),
+        ("gap_band", k.gap_band),
+        ("reclose_depth", k.reclose_depth),
+        ("slip_turn", k.slip_turn),
+        ("touching", k.touching),
+        ("min_area_share", k.min_area_share),
+        ("merge_ratio", k.merge_ratio),
+    ] {
+        c.positive(&format!("contact.{key}"), v);
+    }
+    if !(k.penalty_raise > 1.0 && k.penalty_raise.is_finite()) {
+        c.fail("contact.penalty_raise", format!("must be a finite number > 1, got {}", k.penalty_raise));
+    }
     materials(&mut c, s);
     joints(&mut c, s);
     bodies(&mut c, s);
@@ -62,6 +80,9 @@ pub fn problems(s: &Scenario) -> Vec<Problem> {
 }
 
 fn analysis(c: &mut Checker, a: &Analysis) {
+    if !(a.max_step_cut > 0.0 && a.max_step_cut < 1.0) {
+        c.fail("analysis.max_step_cut", format!("must lie in (0, 1), got {}", a.max_step_cut));
+    }
     if !(a.checkpoint_interval >= 0.0 && a.checkpoint_interval.is_finite()) {
         c.fail("analysis.checkpoint_interval", format!("must be a finite number >= 0, got {}", a.checkpoint_interval));
     }

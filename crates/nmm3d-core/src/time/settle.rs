@@ -30,7 +30,7 @@ impl Stepper {
             let before = (!self.inertia).then(|| (state.clone(), self.contacts.as_ref().map(|c| c.records.clone())));
             let r = match (self.step(sys, state, f64::INFINITY), before) {
                 (Ok(r), None) => r,
-                (Ok(r), Some(_)) if r.cuts == 0 && steps < MAX_STATIC_ITERATIONS => r,
+                (Ok(r), Some(_)) if r.cuts == 0 && steps < analysis.max_static_iterations => r,
                 (Ok(_) | Err(_), Some((saved, records))) => {
                     // Not statically solvable as it stands: regularise with the mass term.
                     *state = saved;
@@ -65,7 +65,3 @@ impl Stepper {
         }
     }
 }
-
-/// Newton iterations of the initial equilibrium before the damped steps take over (a contact
-/// state that keeps changing between iterations would otherwise never let it converge).
-const MAX_STATIC_ITERATIONS: u64 = 50;

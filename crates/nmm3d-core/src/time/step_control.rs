@@ -2,15 +2,12 @@
 //! ntdda `timestep.c`), with every constant a named scenario parameter:
 //!
 //! * ratio r = max_i |d_i| / (g₂ w₀), w₀ = half the largest model extent;
-//! * r > 1: the step is rejected and repeated with Δt ← Δt · max(0.1, target / r), not below
+//! * r > 1: the step is rejected and repeated with Δt ← Δt · max(`max_step_cut`, target / r), not below
 //!   `min_dt_ratio · dt`; at the smallest step, r ≤ `divergence_ratio` is accepted, more is
 //!   divergence;
 //! * accepted: the next Δt = min(dt, remaining time, Δt · min(max_dt_growth, target / r)).
 
 use crate::scenario::Analysis;
-
-/// Largest single cut factor.
-const MAX_CUT: f64 = 0.1;
 
 /// What to do with a trial step.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -27,13 +24,13 @@ pub enum Verdict {
 pub fn judge(a: &Analysis, dt: f64, r: f64) -> Verdict {
     let dt_min = a.min_dt_ratio * a.dt;
     if !r.is_finite() {
-        return if dt > dt_min { Verdict::Retry((dt * MAX_CUT).max(dt_min)) } else { Verdict::Diverged };
+        return if dt > dt_min { Verdict::Retry((dt * a.max_step_cut).max(dt_min)) } else { Verdict::Diverged };
     }
     if r <= 1.0 {
         return Verdict::Accept;
     }
     if dt > dt_min * (1.0 + 1e-12) {
-        return Verdict::Retry((dt * (a.target_displacement_ratio / r).max(MAX_CUT)).max(dt_min));
+        return Verdict::Retry((dt * (a.target_displacement_ratio / r).max(a.max_step_cut)).max(dt_min));
     }
     if r <= a.divergence_ratio {
         Verdict::Accept

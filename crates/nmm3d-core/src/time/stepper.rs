@@ -91,7 +91,7 @@ impl Stepper {
         let mut contacts = if sys.scenario.contact.enabled { ContactSet::new(sys, contact_params(sys)) } else { None };
         if let Some(c) = contacts.as_mut() {
             c.detect(sys, state, true);
-            let problems = overlap_problems(sys, c, OVERLAP_TOLERANCE * sys.covers.mesh.size);
+            let problems = overlap_problems(sys, c, sys.scenario.contact.overlap_tolerance * sys.covers.mesh.size);
             if !problems.is_empty() {
                 return Err(Error::Scenario { file: label.to_string(), problems });
             }
@@ -199,11 +199,12 @@ impl Stepper {
             let too_deep = self.contacts.as_ref().is_some_and(|c| {
                 c.overlap_growing_beyond(sys.scenario.contact.max_penetration_ratio * sys.covers.mesh.size)
             });
-            if too_deep && settled && self.penalty_raises < MAX_PENALTY_RAISES {
+            let raise = sys.scenario.contact.penalty_raise;
+            if too_deep && settled && self.penalty_raises < sys.scenario.contact.max_penalty_raises {
                 self.penalty_raises += 1;
                 if let (Some(c), Some(saved)) = (self.contacts.as_mut(), start_records.as_mut()) {
-                    c.stiffen(PENALTY_RAISE);
-                    saved.iter_mut().for_each(|r| r.stiffen(PENALTY_RAISE));
+                    c.stiffen(raise);
+                    saved.iter_mut().for_each(|r| r.stiffen(raise));
                 }
                 continue;
             }
@@ -404,36 +405,36 @@ struct Increment<'a> {
     springs: f64,
 }
 
-/// Contact penalties and tolerances from the scenario ("auto": k_n = 10 × largest E × cover
-/// size, k_s = k_n; detection margin twice the largest step displacement, warning skin twice
-/// the margin).
+/// Contact penalties and tolerances from the scenario's `[contact]`, read once ("auto":
+/// k_n = `auto_penalty_factor` × largest E × cover size, k_s = k_n; detection margin twice the
+/// largest step displacement plus the support tolerance, the warning skin `warning_skin` × it).
 pub(super) fn contact_params(sys: &System) -> ContactParams {
-    let a = &sys.scenario.analysis;
+    let (a, k) = (&sys.scenario.analysis, &sys.scenario.contact);
     let young = sys.geometry.materials.iter().map(|m| m.young).fold(0.0, f64::max);
     let size = sys.covers.mesh.size;
-    let kn = match sys.scenario.contact.normal_stiffness {
+    let kn = match k.normal_stiffness {
         Stiffness::Value(v) => v,
-        Stiffness::Auto => CONTACT_PENALTY_FACTOR * young * size,
+        Stiffness::Auto => k.auto_penalty_factor * young * size,
     };
-    let ks = match sys.scenario.contact.shear_stiffness {
+    let ks = match k.shear_stiffness {
         Stiffness::Value(v) => v,
         Stiffness::Auto => kn,
     };
-    let tolerance = CONTACT_TOLERANCE * size;
+    let tolerance = k.tolerance_ratio * size;
     let margin = 2.0 * a.max_displacement_ratio * sys.half_size + tolerance;
-    ContactParams { kn, ks, size, margin, skin: WARNING_SKIN * margin, tolerance }
+    ContactParams {
+        kn,
+        ks,
+        size,
+        margin,
+        skin: k.warning_skin * margin,
+        tolerance,
+        band: k.gap_band * size,
+        reclose: k.reclose_depth * tolerance,
+        max_reclose: k.max_reclose,
+        slip_turn: k.slip_turn,
+        touching: k.touching * tolerance,
+        min_share: k.min_area_share,
+        merge: k.merge_ratio * tolerance,
+    }
 }
-
-/// Factor on the contact penalties when a contact overlaps beyond the allowed depth.
-const PENALTY_RAISE: f64 = 10.0;
-/// Largest number of such raises in a run.
-const MAX_PENALTY_RAISES: u32 = 3;
-/// Warning skin as a multiple of the detection margin (larger: fewer rebuilds, more pairs).
-const WARNING_SKIN: f64 = 2.0;
-/// Blocks overlapping deeper than this fraction of the cover size at the start are invalid input.
-const OVERLAP_TOLERANCE: f64 = 1e-3;
-
-/// "auto" normal penalty = this × largest Young's modulus × cover size.
-const CONTACT_PENALTY_FACTOR: f64 = 10.0;
-/// Support tolerance (and transfer distance / 10) as a fraction of the cover size.
-const CONTACT_TOLERANCE: f64 = 1e-3;

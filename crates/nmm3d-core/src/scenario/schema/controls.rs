@@ -86,6 +86,11 @@ pub struct Analysis {
     /// `--resume`); one is always written when a run completes or is interrupted; 0 = only
     /// then [s] (addition).
     pub checkpoint_interval: f64,
+    /// Newton iterations of the initial equilibrium before damped steps take over (addition).
+    pub max_static_iterations: u64,
+    /// Smallest factor one cut applies to Δt when a step moved too far (DDA: 0.1) [-]
+    /// (addition).
+    pub max_step_cut: f64,
 }
 
 /// Fill-reducing ordering of the sparse Cholesky factorisation.
@@ -140,6 +145,8 @@ impl Default for Analysis {
             open_close_tolerance: 0.0,
             initial_equilibrium: false,
             checkpoint_interval: 600.0,
+            max_static_iterations: 50,
+            max_step_cut: 0.1,
         }
     }
 }
@@ -239,6 +246,43 @@ pub struct ContactSpec {
     /// Largest contact overlap allowed at the end of a step, as a fraction of the cover size;
     /// beyond it the step is cut (addition) [-].
     pub max_penetration_ratio: f64,
+    /// "auto" normal penalty = this × largest Young's modulus × cover size [-] (addition).
+    pub auto_penalty_factor: f64,
+    /// Support tolerance of the detection as a fraction of the cover size; a new point takes the
+    /// history of a previous one within 10 × this [-] (addition).
+    pub tolerance_ratio: f64,
+    /// Skin of the warning (candidate pair) list as a multiple of the detection margin [-]
+    /// (addition).
+    pub warning_skin: f64,
+    /// Blocks overlapping deeper than this fraction of the cover size at the start are invalid
+    /// input [-] (addition).
+    pub overlap_tolerance: f64,
+    /// Factor on the penalties when a contact overlaps beyond `max_penetration_ratio` [-]
+    /// (addition).
+    pub penalty_raise: f64,
+    /// Largest number of such raises in a run (addition).
+    pub max_penalty_raises: u32,
+    /// Half-width of the open–close hysteresis on the gap, as a fraction of the cover size [-]
+    /// (addition).
+    pub gap_band: f64,
+    /// Overlap, as a fraction of the support tolerance, at which a point that opened during a
+    /// step's open–close iterations closes again [-] (addition).
+    pub reclose_depth: f64,
+    /// Closings of a point within one step's open–close iterations after which it stays open
+    /// (addition).
+    pub max_reclose: u32,
+    /// Change of a sliding point's friction force between two open–close iterations, relative
+    /// to the largest friction limit, that counts as settled (about a 1° turn) [-] (addition).
+    pub slip_turn: f64,
+    /// A new point whose gap is below this fraction of the support tolerance is touching
+    /// (closed) [-] (addition).
+    pub touching: f64,
+    /// Smallest stiffness share of a point of an area contact (its area over a cover cell's
+    /// face) [-] (addition).
+    pub min_area_share: f64,
+    /// Facet-overlay corners closer than this × the support tolerance are one point [-]
+    /// (addition).
+    pub merge_ratio: f64,
 }
 
 impl Default for ContactSpec {
@@ -248,6 +292,19 @@ impl Default for ContactSpec {
             normal_stiffness: Stiffness::Auto,
             shear_stiffness: Stiffness::Auto,
             max_penetration_ratio: 0.01,
+            auto_penalty_factor: 10.0,
+            tolerance_ratio: 1e-3,
+            warning_skin: 2.0,
+            overlap_tolerance: 1e-3,
+            penalty_raise: 10.0,
+            max_penalty_raises: 3,
+            gap_band: 1e-10,
+            reclose_depth: 1e-3,
+            max_reclose: 2,
+            slip_turn: 0.017_45,
+            touching: 1e-3,
+            min_area_share: 0.05,
+            merge_ratio: 10.0,
         }
     }
 }
