@@ -190,7 +190,8 @@ impl Stepper {
             if let (Some(c), Some(saved), true) = (self.contacts.as_mut(), start_records.as_ref(), trials > 1) {
                 c.records = saved.clone();
             }
-            let (d, iterations, settled) = self.open_close(sys, state, &residual, &mv, &ma, k.c0, k.c1, k.c2)?;
+            let trial = Trial { residual: &residual, mv: &mv, ma: &ma, k };
+            let (d, iterations, settled) = self.open_close(sys, state, &trial)?;
             let dmax = d.iter().map(|x| x.norm()).fold(0.0, f64::max);
             let ratio = dmax / (analysis.max_displacement_ratio * sys.half_size);
             // Contacts overlapping beyond the allowed depth: the penalty is too soft for the
@@ -294,18 +295,7 @@ impl Stepper {
     }
 
     /// Solve, update contact states, repeat until no contact changes state.
-    #[allow(clippy::too_many_arguments)] // the Newmark coefficients travel together with the vectors they scale
-    pub(super) fn open_close(
-        &mut self,
-        sys: &System,
-        state: &State,
-        residual: &[Vec3],
-        mv: &[Vec3],
-        ma: &[Vec3],
-        c0: f64,
-        c1: f64,
-        c2: f64,
-    ) -> Result<(Vec<Vec3>, u32, bool)> {
+    pub(super) fn open_close(&mut self, sys: &System, state: &State, t: &Trial) -> Result<(Vec<Vec3>, u32, bool)> {
         let max = sys.scenario.analysis.max_open_close;
         for it in 1..=max {
             let (clock, pattern) = (Instant::now(), self.times.pattern);
@@ -313,7 +303,7 @@ impl Stepper {
                 // A point that closed in the last solve may couple a pair the pattern lacks.
                 self.ensure_contact_pattern(sys, state.step);
             }
-            let d = self.solve_trial(sys, state, residual, mv, ma, c0, c1, c2)?;
+            let d = self.solve_trial(sys, state, t)?;
             let (changed, mismatch) = self.contacts.as_mut().map_or((0, 0.0), |c| c.update_states(sys, &d));
             if it > 1 {
                 self.times.open_close += clock.elapsed().as_secs_f64() - (self.times.pattern - pattern);
@@ -343,20 +333,10 @@ impl Stepper {
         self.times.pattern += t.elapsed().as_secs_f64();
     }
 
-    #[allow(clippy::too_many_arguments)] // the Newmark coefficients travel together with the vectors they scale
-    pub(super) fn solve_trial(
-        &mut self,
-        sys: &System,
-        state: &State,
-        residual: &[Vec3],
-        mv: &[Vec3],
-        ma: &[Vec3],
-        c0: f64,
-        c1: f64,
-        c2: f64,
-    ) -> Result<Vec<Vec3>> {
+    pub(super) fn solve_trial(&mut self, sys: &System, state: &State, trial: &Trial) -> Result<Vec<Vec3>> {
+        let Trial { residual, mv, ma, k } = *trial;
         let t = Instant::now();
-        self.pattern.combine(sys, (1.0, &self.tangent), (c0, &sys.mass_values), &mut self.values);
+        self.pattern.combine(sys, (1.0, &self.tangent), (k.c0, &sys.mass_values), &mut self.values);
         let mut contact_force = vec![Vec3::zeros(); residual.len()];
         if let Some(c) = self.contacts.as_ref() {
             let pattern = &self.pattern;
@@ -368,7 +348,7 @@ impl Stepper {
         self.times.factorization += t.elapsed().as_secs_f64();
         let t = Instant::now();
         let rhs_cover: Vec<Vec3> =
-            (0..residual.len()).map(|c| residual[c] + c1 * mv[c] + c2 * ma[c] + contact_force[c]).collect();
+            (0..residual.len()).map(|c| residual[c] + k.c1 * mv[c] + k.c2 * ma[c] + contact_force[c]).collect();
         let mut rhs = gather(sys, &rhs_cover);
         self.solver.solve(&mut rhs);
         let mut d = vec![Vec3::zeros(); residual.len()];
@@ -393,6 +373,16 @@ impl Stepper {
         state.time += dt;
         state.step += 1;
     }
+}
+
+/// What every trial of a step solves with: the unbalanced force at the start, M v and M a of
+/// the start, and the Newmark coefficients of the trial's Δt.
+#[derive(Clone, Copy)]
+pub(super) struct Trial<'a> {
+    residual: &'a [Vec3],
+    mv: &'a [Vec3],
+    ma: &'a [Vec3],
+    k: StepCoefficients,
 }
 
 /// What an accepted step's energy accounts need besides the state.
