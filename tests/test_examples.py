@@ -39,6 +39,7 @@ CASES = {
     "block_tower.toml": ["analysis.max_steps=1000"],
     "dominos.toml": ["analysis.duration=0.3"],
     "dougong.toml": ["analysis.duration=0.05"],
+    "two_wedges.toml": ["analysis.duration=0.05"],
 }
 
 

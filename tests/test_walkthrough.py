@@ -46,7 +46,8 @@ def walked(tmp_path_factory) -> tuple[Path, dict[str, str]]:
 
 def test_the_page_has_every_step():
     text = " ".join(commands())
-    for step in ("nmm3d check", "nmm3d blocks", "nmm3d run", "nmm3d plot", "picture.py", "nmm3d study"):
+    for step in ("nmm3d check", "nmm3d blocks", "nmm3d run", "nmm3d plot", "picture.py", "nmm3d study",
+                 "two_wedges.toml"):
         assert step in text, step
 
 
@@ -65,3 +66,16 @@ def test_every_command_runs_and_gives_what_the_page_says(walked):
     assert "vector method: 31.81 deg" in closed
     lo, hi = study["bracket"]
     assert hi - lo <= 2.0 and lo - 1.0 < 31.81 < hi + 1.0
+
+
+def test_key_blocks_get_their_own_critical_angles(walked):
+    here, printed = walked
+    study = json.loads((here / "out" / "key_blocks" / "study.json").read_text())
+    found = {b["id"]: b for b in study["blocks"]}
+    closed = next(v for k, v in printed.items() if "A {c(" in k)
+    assert "A 31.81 deg, B 25.15 deg" in closed
+    # The page's numbers: A (block 1) 31.85°, B (block 4) 25.19°, each within its bracket of the
+    # vector method (the search stops when the bracket is narrower than the tolerance, 1°).
+    for block, exact in ((1, 31.81), (4, 25.15)):
+        lo, hi = found[block]["bracket"]
+        assert hi - lo <= 1.0 and lo - 0.5 < exact < hi + 0.5, (block, found[block])
