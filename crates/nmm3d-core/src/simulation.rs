@@ -80,7 +80,7 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
         Some(c) => {
             rec.restore(c.record);
             saver.initial_equilibrium = c.initial_equilibrium;
-            (c.state, Stepper::resume(&sys, c.stepper))
+            (c.state, Stepper::resume(&sys, c.stepper)?)
         }
         None => {
             let state = State::initial(&sys);
@@ -384,6 +384,7 @@ fn summary(
     let _ = timings.insert("assembly".into(), json!(stepper.times.assembly));
     let _ = timings.insert("ordering_symbolic".into(), json!(symbolic));
     let _ = timings.insert("factorization".into(), json!(numeric));
+    let _ = timings.insert("krylov".into(), json!(stepper.times.krylov));
     let _ = timings.insert("solve".into(), json!(stepper.times.solve));
     let _ = timings.insert("output".into(), json!(rec.output_seconds));
     let last = rec.final_values();
@@ -411,6 +412,10 @@ fn summary(
         "penalty_raises": stepper.penalty_raises,
         "pattern_rebuilds": stepper.pattern_rebuilds(),
         "factor_nonzeros": stepper.factor_nonzeros(),
+        "factorizations": stepper.solve_counts().factorizations,
+        "krylov_solves": stepper.solve_counts().krylov_solves,
+        "krylov_iterations": stepper.solve_counts().krylov_iterations,
+        "krylov_failures": stepper.solve_counts().krylov_failures,
         "unbalanced_force_ratio": rec.last_unbalanced,
         "energy": energy_summary(stepper.energy.as_ref(), &rec.diagnostics),
         "stress_sign": "compression negative",

@@ -26,7 +26,7 @@ fn checkpoint_of(dir: &std::path::Path) -> Checkpoint {
 }
 
 /// Run `text` whole, and again stopped after `at` steps then resumed; compare.
-fn stopped_and_resumed_equals_whole(name: &str, text: &str, at: u64) {
+fn stopped_and_resumed_equals_whole(name: &str, text: &str, at: u64) -> Checkpoint {
     let whole = out_dir(&format!("{name}_whole"));
     let a = run(scenario(text), "<test>", &RunOptions { out: whole.clone(), ..Default::default() }).unwrap();
     assert!(a.completed, "{}", a.summary["message"]);
@@ -43,10 +43,6 @@ fn stopped_and_resumed_equals_whole(name: &str, text: &str, at: u64) {
     assert_eq!(b.summary["status"], "interrupted");
     assert_eq!(b.summary["steps"], at);
     let mid = checkpoint_of(&parts);
-    assert!(
-        mid.stepper.contacts.as_ref().is_some_and(|c| !c.records.is_empty()),
-        "the checkpoint holds contact points"
-    );
     let again: Checkpoint = serde_json::from_str(&serde_json::to_string(&mid).unwrap()).unwrap();
     assert_eq!(again, mid, "the state round-trips exactly");
 
@@ -61,18 +57,44 @@ fn stopped_and_resumed_equals_whole(name: &str, text: &str, at: u64) {
     let (end_a, end_c) = (checkpoint_of(&whole), checkpoint_of(&parts));
     assert_eq!(end_a.state, end_c.state);
     assert_eq!(end_a.stepper, end_c.stepper);
+    mid
+}
+
+fn holds_contact_points(c: &Checkpoint) -> bool {
+    c.stepper.contacts.as_ref().is_some_and(|c| !c.records.is_empty())
 }
 
 #[test]
 fn dominos_resume_bit_identically() {
     let text = common::with(&common::example("dominos.toml"), "duration = 5.0", "duration = 0.1");
-    stopped_and_resumed_equals_whole("checkpoint_dominos", &text, 37);
+    let mid = stopped_and_resumed_equals_whole("checkpoint_dominos", &text, 37);
+    assert!(holds_contact_points(&mid), "the checkpoint holds contact points");
 }
 
 #[test]
 fn incline_from_its_initial_equilibrium_resumes_bit_identically() {
     let text = common::with(&common::example("incline.toml"), "duration = 1.0", "duration = 0.2");
-    stopped_and_resumed_equals_whole("checkpoint_incline", &text, 23);
+    let mid = stopped_and_resumed_equals_whole("checkpoint_incline", &text, 23);
+    assert!(holds_contact_points(&mid), "the checkpoint holds contact points");
+}
+
+/// A continuum's steps are solved by PCG on an earlier factor: the checkpoint carries that
+/// factor's matrix, and the resumed run re-makes it.
+#[test]
+fn a_vibrating_cantilever_solved_on_a_reused_factor_resumes_bit_identically() {
+    let mut text = common::example("cantilever.toml");
+    for (old, new) in [
+        ("kind = \"static\"", "kind = \"dynamic\""),
+        ("duration = 1000.0", "duration = 0.012"),
+        ("dt = 1.0", "dt = 0.001"),
+        ("size = 0.125", "size = 0.5"),
+    ] {
+        text = common::with(&text, old, new);
+    }
+    let mid = stopped_and_resumed_equals_whole("checkpoint_cantilever", &text, 5);
+    let solver = &mid.stepper.factor;
+    assert!(solver.source.is_some(), "the checkpoint holds the reused factor's matrix");
+    assert!(solver.counts.krylov_solves >= 3, "{:?}", solver.counts);
 }
 
 #[test]

@@ -40,3 +40,22 @@ fn cantilever_tip_load_converges_monotonically() {
         assert!(err < bound, "{pattern} at s = 0.25: error {err:.4}");
     }
 }
+
+/// Equilibrium with few factorisations: the Newton iterations of the static run are solved by
+/// PCG on an earlier factor (renewed once, when the beam's rotation has moved the tangent), and
+/// reach the same tip deflection as factorising at every iteration.
+#[test]
+fn cantilever_equilibrium_reuses_its_first_factor() {
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/cantilever.toml")).unwrap();
+    let text = common::with(&text, "size = 0.125", "size = 0.25");
+    let every = common::with(&text, "[analysis]", "[analysis]\nfactor_reuse = false");
+    let (reused, direct) = (run_ok(&text, "cantilever_reused"), run_ok(&every, "cantilever_direct"));
+    let (a, b) = (final_value(&reused, "tip.displacement.z"), final_value(&direct, "tip.displacement.z"));
+    assert!((a - b).abs() <= 1e-9 * b.abs(), "{a} against {b}");
+    let count = |o: &nmm3d_core::simulation::RunOutcome, k: &str| o.summary[k].as_u64().unwrap();
+    assert_eq!(count(&direct, "factorizations"), count(&direct, "steps"));
+    assert!(count(&direct, "steps") >= 3);
+    let factorizations = count(&reused, "factorizations");
+    assert!(3 * factorizations <= count(&direct, "factorizations"), "{}", reused.summary);
+    assert_eq!(count(&reused, "krylov_solves") + factorizations, count(&reused, "steps"));
+}

@@ -16,7 +16,7 @@ use super::dof_map::DofMap;
 pub const ABSENT: u32 = u32::MAX;
 
 /// Lower-triangular CSC pattern.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SparsityPattern {
     /// Matrix order.
     pub n: usize,
@@ -76,6 +76,23 @@ impl SparsityPattern {
     /// Number of stored entries.
     pub fn nnz(&self) -> usize {
         self.row_idx.len()
+    }
+
+    /// y = A x for the symmetric matrix whose lower triangle `values` holds on this pattern.
+    pub fn symmetric_times(&self, values: &[f64], x: &[f64], y: &mut [f64]) {
+        y.fill(0.0);
+        for j in 0..self.n {
+            let (lo, hi) = (self.col_ptr[j] as usize, self.col_ptr[j + 1] as usize);
+            let mut column = 0.0;
+            for (&i, &v) in self.row_idx[lo..hi].iter().zip(&values[lo..hi]) {
+                let i = i as usize;
+                y[i] += v * x[j];
+                if i != j {
+                    column += v * x[i];
+                }
+            }
+            y[j] += column;
+        }
     }
 
     /// xᵀ A x for the symmetric matrix whose lower triangle `values` holds on this pattern.
@@ -172,5 +189,28 @@ mod tests {
         assert_eq!(back.iter().filter(|&&k| k == ABSENT).count(), grown.nnz() - p.nnz());
         // Growing by couplings already present changes nothing.
         assert_eq!(p.with_cliques(&d, [&[0usize, 1][..]].into_iter()).row_idx, p.row_idx);
+    }
+
+    #[test]
+    fn the_product_uses_both_triangles() {
+        let d = dofs(3);
+        let p = SparsityPattern::from_cliques(&d, [&[0usize, 2][..], &[1, 2]].into_iter());
+        let values: Vec<f64> = (0..p.nnz()).map(|k| 1.0 + k as f64 * 0.37).collect();
+        let x: Vec<f64> = (0..p.n).map(|i| (i as f64 * 1.3).sin()).collect();
+        let mut dense = vec![vec![0.0; p.n]; p.n];
+        for j in 0..p.n {
+            for k in p.col_ptr[j] as usize..p.col_ptr[j + 1] as usize {
+                let i = p.row_idx[k] as usize;
+                (dense[i][j], dense[j][i]) = (values[k], values[k]);
+            }
+        }
+        let mut y = vec![f64::NAN; p.n];
+        p.symmetric_times(&values, &x, &mut y);
+        for i in 0..p.n {
+            let expected: f64 = (0..p.n).map(|j| dense[i][j] * x[j]).sum();
+            assert!((y[i] - expected).abs() <= 1e-12 * expected.abs().max(1.0), "row {i}");
+        }
+        let xax: f64 = x.iter().zip(&y).map(|(a, b)| a * b).sum();
+        assert!((p.quadratic_form(&values, &x) - xax).abs() <= 1e-12 * xax.abs());
     }
 }

@@ -46,6 +46,11 @@ impl ContactSet {
         pairs
     }
 
+    /// Whether some point is closed (its springs are in the system matrix).
+    pub fn any_closed(&self) -> bool {
+        self.records.iter().any(|r| r.state != ContactState::Open)
+    }
+
     /// Multiply every penalty by `factor` (new points too), keeping the shear springs' forces.
     pub fn stiffen(&mut self, factor: f64) {
         self.params.kn *= factor;

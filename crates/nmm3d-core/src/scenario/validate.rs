@@ -86,6 +86,12 @@ fn analysis(c: &mut Checker, a: &Analysis) {
     if !(a.checkpoint_interval >= 0.0 && a.checkpoint_interval.is_finite()) {
         c.fail("analysis.checkpoint_interval", format!("must be a finite number >= 0, got {}", a.checkpoint_interval));
     }
+    if !(a.krylov_tolerance > 0.0 && a.krylov_tolerance < 1.0) {
+        c.fail("analysis.krylov_tolerance", format!("must lie in (0, 1), got {}", a.krylov_tolerance));
+    }
+    if a.krylov_max_iterations == 0 {
+        c.fail("analysis.krylov_max_iterations", "must be at least 1");
+    }
     c.positive("analysis.duration", a.duration);
     c.positive("analysis.dt", a.dt);
     c.positive("analysis.max_displacement_ratio", a.max_displacement_ratio);

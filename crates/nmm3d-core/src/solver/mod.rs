@@ -3,8 +3,11 @@
 
 mod faer_cholesky;
 pub mod ordering;
+pub mod pcg;
+mod reuse;
 
 pub use faer_cholesky::FaerCholesky;
+pub use reuse::{FactorReuse, FactorSnapshot, FactorSource, ReusingSolver, SolveCounts, Solved};
 
 use crate::assembly::SparsityPattern;
 

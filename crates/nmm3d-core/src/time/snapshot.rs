@@ -1,16 +1,19 @@
 //! The stepper's run state as data (checkpoints): with the [`State`] it restarts a run exactly
 //! where it stopped. The solver, the work buffers and the contact surfaces are rebuilt from the
-//! model; the contact points, the matrix pattern they grew, the penalties as raised, the force
-//! scale, the counters and the energy accounts are kept.
+//! model; the contact points, the matrix pattern they grew, the matrix of the factor in use
+//! (re-factorised on resume: later solves are preconditioned by it), the penalties as raised,
+//! the force scale, the counters and the energy accounts are kept.
 
 use serde::{Deserialize, Serialize};
 
 use super::contact_pattern::{ContactPattern, PatternSnapshot};
-use super::stepper::{contact_params, PhaseTimes, Stepper};
+use super::stepper::{contact_params, solver, PhaseTimes, Stepper};
+use super::vectors::solver_error;
 use super::{Energy, Newmark};
 use crate::contact::snapshot::ContactSnapshot;
 use crate::contact::ContactSet;
-use crate::solver::FaerCholesky;
+use crate::error::Result;
+use crate::solver::FactorSnapshot;
 use crate::system::System;
 
 /// A [`Stepper`]'s state.
@@ -20,6 +23,9 @@ pub struct StepperSnapshot {
     pub contacts: Option<ContactSnapshot>,
     /// The matrix pattern grown by contacts.
     pub pattern: PatternSnapshot,
+    /// The matrix of the factor in use and the solver's counters.
+    #[serde(default)]
+    pub factor: FactorSnapshot,
     /// Force scale of the unbalanced force ratio [N].
     pub force_scale: f64,
     /// Contacts locked.
@@ -40,6 +46,7 @@ impl Stepper {
         StepperSnapshot {
             contacts: self.contacts.as_ref().map(ContactSet::snapshot),
             pattern: self.pattern.snapshot(),
+            factor: self.solver.snapshot(),
             force_scale: self.force_scale,
             locked: self.locked,
             inertia: self.inertia,
@@ -51,7 +58,7 @@ impl Stepper {
 
     /// A stepper continuing from a snapshot taken on the same model (no initial detection: the
     /// contact points are the snapshot's).
-    pub fn resume(sys: &System, s: StepperSnapshot) -> Self {
+    pub fn resume(sys: &System, s: StepperSnapshot) -> Result<Self> {
         let nnz = sys.assembler.pattern.nnz();
         let contacts = match (s.contacts, sys.scenario.contact.enabled) {
             (Some(snap), true) => ContactSet::new(sys, contact_params(sys)).map(|mut c| {
@@ -60,8 +67,10 @@ impl Stepper {
             }),
             _ => None,
         };
-        Self {
-            solver: Box::new(FaerCholesky::new(sys.scenario.analysis.ordering)),
+        let mut solver = solver(sys);
+        solver.restore(s.factor).map_err(|f| solver_error(sys, 0, f))?;
+        Ok(Self {
+            solver,
             pattern: ContactPattern::restore(sys, &s.pattern),
             contacts,
             newmark: Newmark::from_analysis(&sys.scenario.analysis),
@@ -74,6 +83,6 @@ impl Stepper {
             penalty_raises: s.penalty_raises,
             times: PhaseTimes::default(),
             energy: s.energy,
-        }
+        })
     }
 }

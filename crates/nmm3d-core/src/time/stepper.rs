@@ -17,7 +17,7 @@ use super::vectors::{equation_vector, gather, kinetic_energy, mass_times, scale,
 use crate::contact::{overlap_problems, ContactParams, ContactSet};
 use crate::error::{Error, Result};
 use crate::scenario::{AnalysisKind, Stiffness};
-use crate::solver::{FaerCholesky, LinearSolver};
+use crate::solver::{FactorReuse, FaerCholesky, ReusingSolver, SolveCounts, Solved};
 use crate::state::State;
 use crate::system::System;
 
@@ -47,9 +47,11 @@ pub struct StepReport {
 pub struct PhaseTimes {
     /// Element loop and scatter.
     pub assembly: f64,
-    /// Numeric factorisation (and symbolic, first time).
+    /// Matrices combined and factorised (symbolic analysis included), with their solve.
     pub factorization: f64,
-    /// Triangular solves.
+    /// Systems solved by PCG on an earlier factor (matrices combined included).
+    pub krylov: f64,
+    /// Right-hand sides gathered, solutions scattered.
     pub solve: f64,
     /// Open–close iterations beyond the first (their factorisations and solves included).
     pub open_close: f64,
@@ -60,7 +62,7 @@ pub struct PhaseTimes {
 
 /// Orchestrates steps; owns the linear solver and work buffers.
 pub struct Stepper {
-    pub(super) solver: Box<dyn LinearSolver>,
+    pub(super) solver: ReusingSolver,
     /// The system matrix's pattern (grown by contacts).
     pub(super) pattern: ContactPattern,
     pub(super) contacts: Option<ContactSet>,
@@ -97,7 +99,7 @@ impl Stepper {
             }
         }
         let mut stepper = Self {
-            solver: Box::new(FaerCholesky::new(sys.scenario.analysis.ordering)),
+            solver: solver(sys),
             pattern: ContactPattern::default(),
             contacts,
             newmark: Newmark::from_analysis(&sys.scenario.analysis),
@@ -130,6 +132,11 @@ impl Stepper {
         self.solver.factor_nonzeros()
     }
 
+    /// Factorisations and PCG solves so far.
+    pub fn solve_counts(&self) -> SolveCounts {
+        self.solver.counts
+    }
+
     /// Symbolic and numeric factorisation seconds of the solver.
     pub fn solver_timings(&self) -> (f64, f64) {
         self.solver.timings()
@@ -141,9 +148,10 @@ impl Stepper {
         self.force_scale = scale(sys, &residual).max(scale(sys, &sys.external));
         if sys.scenario.analysis.kind == AnalysisKind::Dynamic && self.newmark.uses_acceleration() && sys.n_eq() > 0 {
             self.pattern.combine(sys, (0.0, &self.tangent), (1.0, &sys.mass_values), &mut self.values);
-            self.solver.factorize(self.pattern.pattern(sys), &self.values).map_err(|f| solver_error(sys, 0, f))?;
             let mut rhs = gather(sys, &residual);
-            self.solver.solve(&mut rhs);
+            self.solver
+                .solve_once(self.pattern.pattern(sys), &self.values, &mut rhs)
+                .map_err(|f| solver_error(sys, 0, f))?;
             scatter_into(sys, &rhs, &mut state.a);
         }
         Ok(())
@@ -338,19 +346,24 @@ impl Stepper {
         let t = Instant::now();
         self.pattern.combine(sys, (1.0, &self.tangent), (k.c0, &sys.mass_values), &mut self.values);
         let mut contact_force = vec![Vec3::zeros(); residual.len()];
+        // Only a matrix without contact springs is reused (see `solver::reuse`).
+        let nearby = !self.contacts.as_ref().is_some_and(ContactSet::any_closed);
         if let Some(c) = self.contacts.as_ref() {
             let pattern = &self.pattern;
             c.assemble(sys, &mut contact_force, pattern.pattern(sys), |pair| pattern.coupling(pair), &mut self.values);
         }
-        self.solver
-            .factorize(self.pattern.pattern(sys), &self.values)
-            .map_err(|f| solver_error(sys, state.step + 1, f))?;
-        self.times.factorization += t.elapsed().as_secs_f64();
-        let t = Instant::now();
         let rhs_cover: Vec<Vec3> =
             (0..residual.len()).map(|c| residual[c] + k.c1 * mv[c] + k.c2 * ma[c] + contact_force[c]).collect();
         let mut rhs = gather(sys, &rhs_cover);
-        self.solver.solve(&mut rhs);
+        let solved = self
+            .solver
+            .solve(self.pattern.pattern(sys), &self.values, &mut rhs, nearby)
+            .map_err(|f| solver_error(sys, state.step + 1, f))?;
+        match solved {
+            Solved::Factorized => self.times.factorization += t.elapsed().as_secs_f64(),
+            Solved::Krylov(_) => self.times.krylov += t.elapsed().as_secs_f64(),
+        }
+        let t = Instant::now();
         let mut d = vec![Vec3::zeros(); residual.len()];
         scatter_into(sys, &rhs, &mut d);
         self.times.solve += t.elapsed().as_secs_f64();
@@ -393,6 +406,14 @@ struct Increment<'a> {
     kinetic0: f64,
     friction: f64,
     springs: f64,
+}
+
+/// The direct solver (faer's Cholesky) with factor reuse as `[analysis]` asks.
+pub(super) fn solver(sys: &System) -> ReusingSolver {
+    let a = &sys.scenario.analysis;
+    let reuse =
+        FactorReuse { enabled: a.factor_reuse, tolerance: a.krylov_tolerance, max_iterations: a.krylov_max_iterations };
+    ReusingSolver::new(Box::new(FaerCholesky::new(a.ordering)), reuse)
 }
 
 /// Contact penalties and tolerances from the scenario's `[contact]`, read once ("auto":

@@ -91,6 +91,14 @@ pub struct Analysis {
     /// Smallest factor one cut applies to Δt when a step moved too far (DDA: 0.1) [-]
     /// (addition).
     pub max_step_cut: f64,
+    /// Solve a matrix close to the last one factorised by PCG with that factor as the
+    /// preconditioner, factorising only when PCG does not converge (addition).
+    pub factor_reuse: bool,
+    /// Relative preconditioned residual at which that PCG has converged [-] (addition).
+    pub krylov_tolerance: f64,
+    /// PCG iterations before the matrix is factorised instead; a factor that needed more
+    /// than half of them is renewed at the next solve (addition).
+    pub krylov_max_iterations: u32,
 }
 
 /// Fill-reducing ordering of the sparse Cholesky factorisation.
@@ -147,6 +155,9 @@ impl Default for Analysis {
             checkpoint_interval: 600.0,
             max_static_iterations: 50,
             max_step_cut: 0.1,
+            factor_reuse: true,
+            krylov_tolerance: 1e-10,
+            krylov_max_iterations: 12,
         }
     }
 }

@@ -1,0 +1,297 @@
+//! Factorise rarely: a system whose matrix differs little from the last one factorised (the
+//! next Newton iteration of a static equilibrium, the next step of a continuum) is solved by
+//! PCG with that factor as the preconditioner ([`super::pcg`]); only when PCG does not reach
+//! its tolerance within its iteration budget is the matrix factorised again. A factor that
+//! needed more than half the budget is renewed at the next solve.
+//!
+//! The caller says whether a matrix may be near the last one (`nearby`): contact springs that
+//! close, open or start sliding between two solves are stiff changes of high rank (measured on
+//! the thesis slope: 2 300–2 700 of 3 800 points change state in a step's first open–close
+//! iteration, and PCG did not converge in 200 iterations), and PCG's small residual moves the
+//! gaps on which the open–close rules decide (the dominos took twice the iterations). So a
+//! matrix with closed contact springs is always factorised (`docs/theory/solver.md`).
+//!
+//! The result depends on which matrix the factor was made of, so that matrix is part of the
+//! run's state ([`FactorSnapshot`]): a resumed run re-makes the same factor and continues bit
+//! for bit.
+
+use serde::{Deserialize, Serialize};
+
+use super::pcg::pcg;
+use super::{LinearSolver, SolverFailure};
+use crate::assembly::SparsityPattern;
+
+/// When and how an earlier factor is reused (`[analysis]` keys).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FactorReuse {
+    /// Reuse at all (`factor_reuse`); false: every solve factorises.
+    pub enabled: bool,
+    /// Relative preconditioned residual at which PCG has converged [-] (`krylov_tolerance`).
+    pub tolerance: f64,
+    /// PCG iterations before the matrix is factorised instead (`krylov_max_iterations`).
+    pub max_iterations: u32,
+}
+
+/// How one system was solved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Solved {
+    /// By a new factorisation.
+    Factorized,
+    /// By PCG on the last factor, in this many iterations.
+    Krylov(u32),
+}
+
+/// The matrix the current factor was made of.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FactorSource {
+    /// Its pattern (lower triangle).
+    pub pattern: SparsityPattern,
+    /// Its values on that pattern.
+    pub values: Vec<f64>,
+}
+
+/// A [`ReusingSolver`]'s state as data (checkpoints).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct FactorSnapshot {
+    /// The matrix of the factor in use (`None`: no reusable factor).
+    pub source: Option<FactorSource>,
+    /// The next solve factorises.
+    pub renew: bool,
+    /// Counters so far.
+    pub counts: SolveCounts,
+}
+
+/// What the solver did so far.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub struct SolveCounts {
+    /// Numeric factorisations.
+    pub factorizations: u64,
+    /// Systems solved by PCG on an earlier factor.
+    pub krylov_solves: u64,
+    /// PCG iterations, those of unconverged attempts included.
+    pub krylov_iterations: u64,
+    /// PCG attempts that did not converge (the matrix was factorised instead).
+    pub krylov_failures: u64,
+}
+
+/// A direct solver whose factor is reused by PCG while it preconditions well.
+pub struct ReusingSolver {
+    direct: Box<dyn LinearSolver>,
+    reuse: FactorReuse,
+    source: Option<FactorSource>,
+    /// The pattern changed since the factor was made (the next factorisation re-analyses).
+    pattern_changed: bool,
+    renew: bool,
+    /// What the solver did so far.
+    pub counts: SolveCounts,
+}
+
+impl ReusingSolver {
+    /// Reuse `direct`'s factors as `reuse` says.
+    pub fn new(direct: Box<dyn LinearSolver>, reuse: FactorReuse) -> Self {
+        Self { direct, reuse, source: None, pattern_changed: false, renew: false, counts: SolveCounts::default() }
+    }
+
+    /// Solve A x = `rhs` in place (A's lower triangle `values` on `pattern`); `nearby`: A may
+    /// be solved by PCG on the last factor, if that factor's matrix was `nearby` too.
+    pub fn solve(
+        &mut self,
+        pattern: &SparsityPattern,
+        values: &[f64],
+        rhs: &mut [f64],
+        nearby: bool,
+    ) -> Result<Solved, SolverFailure> {
+        if nearby && self.source.is_some() && !self.renew {
+            let mut x = vec![0.0; rhs.len()];
+            let direct = &mut self.direct;
+            let (tol, max) = (self.reuse.tolerance, self.reuse.max_iterations);
+            let out = pcg(pattern, values, rhs, &mut x, |r| direct.solve(r), tol, max);
+            self.counts.krylov_iterations += u64::from(out.iterations);
+            if out.converged {
+                self.counts.krylov_solves += 1;
+                self.renew = 2 * out.iterations > max;
+                rhs.copy_from_slice(&x);
+                return Ok(Solved::Krylov(out.iterations));
+            }
+            self.counts.krylov_failures += 1;
+        }
+        self.factorize(pattern, values, nearby)?;
+        self.direct.solve(rhs);
+        Ok(Solved::Factorized)
+    }
+
+    /// Factorise and solve, and have the next solve factorise again (a matrix unlike the
+    /// ones that follow, e.g. the mass matrix of the initial accelerations).
+    pub fn solve_once(
+        &mut self,
+        pattern: &SparsityPattern,
+        values: &[f64],
+        rhs: &mut [f64],
+    ) -> Result<(), SolverFailure> {
+        self.factorize(pattern, values, false)?;
+        self.direct.solve(rhs);
+        Ok(())
+    }
+
+    /// Factorise; keep the matrix as the source of reused solves when it is `nearby` kind.
+    fn factorize(&mut self, pattern: &SparsityPattern, values: &[f64], nearby: bool) -> Result<(), SolverFailure> {
+        let same_pattern = !self.pattern_changed;
+        if self.pattern_changed {
+            self.direct.new_pattern();
+            self.pattern_changed = false;
+        }
+        // A failed factorisation leaves no usable factor.
+        let old = self.source.take();
+        self.direct.factorize(pattern, values)?;
+        self.counts.factorizations += 1;
+        self.renew = false;
+        if self.reuse.enabled && nearby {
+            self.source = Some(match old {
+                Some(mut s) if same_pattern => {
+                    s.values.copy_from_slice(values);
+                    s
+                }
+                _ => FactorSource { pattern: pattern.clone(), values: values.to_vec() },
+            });
+        }
+        Ok(())
+    }
+
+    /// The pattern changed: the next factorisation re-analyses it; until then the old factor
+    /// still preconditions.
+    pub fn new_pattern(&mut self) {
+        self.pattern_changed = true;
+    }
+
+    /// The state to save.
+    pub fn snapshot(&self) -> FactorSnapshot {
+        FactorSnapshot { source: self.source.clone(), renew: self.renew, counts: self.counts }
+    }
+
+    /// Continue from a snapshot: re-make its factor.
+    pub fn restore(&mut self, s: FactorSnapshot) -> Result<(), SolverFailure> {
+        if let Some(src) = &s.source {
+            self.direct.new_pattern();
+            self.direct.factorize(&src.pattern, &src.values)?;
+            self.pattern_changed = true;
+        }
+        (self.source, self.renew, self.counts) = (s.source, s.renew, s.counts);
+        Ok(())
+    }
+
+    /// Stored entries of the last factor.
+    pub fn factor_nonzeros(&self) -> usize {
+        self.direct.factor_nonzeros()
+    }
+
+    /// Seconds spent in symbolic analysis and in numeric factorisation so far.
+    pub fn timings(&self) -> (f64, f64) {
+        self.direct.timings()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenario::Ordering;
+    use crate::solver::FaerCholesky;
+
+    /// A 3-D Laplacian-like SPD matrix on an m × m × m grid (7-point stencil), diagonal `d`.
+    fn grid(m: usize, d: impl Fn(usize) -> f64) -> (SparsityPattern, Vec<f64>) {
+        let n = m * m * m;
+        let (mut col_ptr, mut row_idx, mut values) = (vec![0u32], Vec::new(), Vec::new());
+        for j in 0..n {
+            row_idx.push(j as u32);
+            values.push(d(j));
+            for step in [1, m, m * m] {
+                if j + step < n
+                    && (step != 1 || !(j + 1).is_multiple_of(m))
+                    && (step != m || !(j / m + 1).is_multiple_of(m))
+                {
+                    row_idx.push((j + step) as u32);
+                    values.push(-1.0);
+                }
+            }
+            col_ptr.push(row_idx.len() as u32);
+        }
+        (SparsityPattern { n, col_ptr, row_idx }, values)
+    }
+
+    fn solver(max_iterations: u32) -> ReusingSolver {
+        let reuse = FactorReuse { enabled: true, tolerance: 1e-12, max_iterations };
+        ReusingSolver::new(Box::new(FaerCholesky::new(Ordering::Amd)), reuse)
+    }
+
+    fn rhs(n: usize) -> Vec<f64> {
+        (0..n).map(|i| (i as f64 * 0.7).sin() + 0.1).collect()
+    }
+
+    fn max_difference(a: &[f64], b: &[f64]) -> f64 {
+        a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
+    }
+
+    #[test]
+    fn a_nearby_matrix_is_solved_on_the_last_factor_as_exactly_as_by_a_new_one() {
+        let (p, v0) = grid(6, |_| 6.5);
+        let (_, v1) = grid(6, |j| 6.5 * (1.0 + 0.02 * (j as f64 * 0.3).cos()));
+        let mut s = solver(20);
+        let mut x0 = rhs(p.n);
+        assert_eq!(s.solve(&p, &v0, &mut x0, true), Ok(Solved::Factorized));
+        let mut x1 = rhs(p.n);
+        let got = s.solve(&p, &v1, &mut x1, true).unwrap();
+        // κ(K₀⁻¹K₁) ≤ 1.02/0.98: CG's bound 2((√κ − 1)/(√κ + 1))ᵏ reaches 1e-12 by k = 8.
+        assert!(matches!(got, Solved::Krylov(it) if it <= 8), "{got:?}");
+        let mut exact = rhs(p.n);
+        solver(20).solve(&p, &v1, &mut exact, true).unwrap();
+        assert!(max_difference(&x1, &exact) <= 1e-10 * exact.iter().map(|x| x.abs()).fold(0.0, f64::max));
+        assert_eq!(
+            s.counts,
+            SolveCounts { factorizations: 1, krylov_solves: 1, krylov_iterations: 0, krylov_failures: 0 }
+                .with_iterations(&got)
+        );
+    }
+
+    #[test]
+    fn a_matrix_that_is_not_nearby_or_too_far_is_factorised() {
+        let (p, v0) = grid(5, |_| 6.5);
+        // Far: a thousandfold stiffer along many equations (contact springs closing).
+        let (_, far) = grid(5, |j| if j % 3 == 0 { 6500.0 } else { 6.5 });
+        let mut s = solver(4);
+        s.solve(&p, &v0, &mut rhs(p.n), true).unwrap();
+        assert_eq!(s.solve(&p, &v0, &mut rhs(p.n), false), Ok(Solved::Factorized), "not nearby");
+        // A factor made of a matrix that was not nearby is not reused either.
+        assert_eq!(s.solve(&p, &v0, &mut rhs(p.n), true), Ok(Solved::Factorized), "source not nearby");
+        let mut x = rhs(p.n);
+        assert_eq!(s.solve(&p, &far, &mut x, true), Ok(Solved::Factorized), "PCG gave up");
+        assert_eq!(s.counts.krylov_failures, 1);
+        let mut exact = rhs(p.n);
+        solver(4).solve(&p, &far, &mut exact, true).unwrap();
+        assert_eq!(x, exact, "the fallback is the direct solve");
+    }
+
+    #[test]
+    fn a_restored_snapshot_continues_bit_for_bit() {
+        let (p, v0) = grid(5, |_| 6.5);
+        let (_, v1) = grid(5, |j| 6.5 + 0.1 * (j as f64).sin());
+        let mut a = solver(20);
+        a.solve(&p, &v0, &mut rhs(p.n), true).unwrap();
+        let snap: FactorSnapshot = serde_json::from_str(&serde_json::to_string(&a.snapshot()).unwrap()).unwrap();
+        assert_eq!(snap, a.snapshot());
+        let mut b = solver(20);
+        b.restore(snap).unwrap();
+        let (mut xa, mut xb) = (rhs(p.n), rhs(p.n));
+        assert!(matches!(a.solve(&p, &v1, &mut xa, true), Ok(Solved::Krylov(_))));
+        assert!(matches!(b.solve(&p, &v1, &mut xb, true), Ok(Solved::Krylov(_))));
+        assert_eq!(xa, xb);
+        assert_eq!(a.counts, b.counts);
+    }
+
+    impl SolveCounts {
+        fn with_iterations(mut self, s: &Solved) -> Self {
+            if let Solved::Krylov(it) = s {
+                self.krylov_iterations = u64::from(*it);
+            }
+            self
+        }
+    }
+}
