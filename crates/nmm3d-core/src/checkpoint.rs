@@ -16,7 +16,7 @@ use crate::output::atomic;
 use crate::scenario::Scenario;
 use crate::state::State;
 use crate::time::snapshot::StepperSnapshot;
-use crate::time::StepReport;
+use crate::time::{Cut, StepReport};
 
 /// Version of the file format.
 pub const VERSION: u32 = 1;
@@ -50,6 +50,9 @@ pub struct RecordSnapshot {
     pub history: Vec<(f64, u64, Vec<f64>)>,
     /// Diagnostics rows: time, step, the step's report.
     pub diagnostics: Vec<(f64, u64, StepReport)>,
+    /// Rejected trials so far.
+    #[serde(default)]
+    pub cut_log: Vec<Cut>,
     /// Frames written: time, blocks file, contact file.
     pub frames: Vec<(f64, String, Option<String>)>,
     /// Time of the next history row [s].

@@ -15,7 +15,7 @@ use crate::contact::ContactSet;
 use crate::error::{Error, Result};
 use crate::monitor::MonitorPlan;
 use crate::output::progress::{Progress, ProgressMode};
-use crate::output::{atomic, checks, tables, vtu};
+use crate::output::{atomic, checks, cuts, tables, vtu};
 use crate::scenario::{AnalysisKind, Scenario};
 use crate::state::State;
 use crate::system::System;
@@ -93,6 +93,7 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
         if resumed_at.is_some() { Ok(()) } else { start(&sys, &mut state, &mut stepper, &mut rec, &mut saver) };
     let result = started
         .and_then(|_| advance(&sys, &mut state, &mut stepper, &mut rec, &mut progress, opts.stop.as_ref(), &mut saver));
+    rec.cut_log.append(&mut stepper.cuts);
     progress.finish();
     let (status, message) = match result {
         Ok(End::Completed(m)) => ("completed", m),
@@ -197,6 +198,7 @@ fn advance(
         }
         let cap = (end - state.time).max(0.0);
         let report = stepper.step(sys, state, cap)?;
+        rec.cut_log.append(&mut stepper.cuts);
         rec.last_unbalanced = report.unbalanced;
         rec.cuts += report.cuts as u64;
         rec.max_penetration = rec.max_penetration.max(report.max_penetration);
@@ -235,6 +237,7 @@ struct Recorder {
     monitors: Vec<MonitorPlan>,
     history: tables::History,
     diagnostics: Vec<(f64, u64, crate::time::StepReport)>,
+    cut_log: Vec<crate::time::Cut>,
     frames: Vec<(f64, String, Option<String>)>,
     out: PathBuf,
     next_history: f64,
@@ -260,6 +263,7 @@ impl Recorder {
             monitors,
             history: tables::History::new(columns),
             diagnostics: Vec::new(),
+            cut_log: Vec::new(),
             frames: Vec::new(),
             out: out.to_path_buf(),
             next_history: 0.0,
@@ -323,6 +327,7 @@ impl Recorder {
             self.frame(sys, state, contacts)?;
         }
         tables::write_diagnostics(&self.out, &self.diagnostics)?;
+        cuts::write(&self.out, &self.cut_log)?;
         self.history.write(&self.out)
     }
 
@@ -330,6 +335,7 @@ impl Recorder {
         RecordSnapshot {
             history: self.history.rows.clone(),
             diagnostics: self.diagnostics.clone(),
+            cut_log: self.cut_log.clone(),
             frames: self.frames.clone(),
             next_history: self.next_history,
             next_frame: self.next_frame,
@@ -345,6 +351,7 @@ impl Recorder {
     fn restore(&mut self, s: RecordSnapshot) {
         self.history.rows = s.history;
         self.diagnostics = s.diagnostics;
+        self.cut_log = s.cut_log;
         self.frames = s.frames;
         self.next_history = s.next_history;
         self.next_frame = s.next_frame;
@@ -418,6 +425,7 @@ fn summary(
         "krylov_failures": stepper.solve_counts().krylov_failures,
         "unbalanced_force_ratio": rec.last_unbalanced,
         "energy": energy_summary(stepper.energy.as_ref(), &rec.diagnostics),
+        "step_diagnostics": cuts::summary(sys, &rec.cut_log, &rec.diagnostics),
         "stress_sign": "compression negative",
         "timings": Value::Object(timings),
         "final": Value::Object(last.clone()),

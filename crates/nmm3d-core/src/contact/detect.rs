@@ -42,6 +42,7 @@ impl ContactSet {
             warning: Warning::default(),
             times: ContactTimes::default(),
             locked: false,
+            last_changes: Vec::new(),
         })
     }
 

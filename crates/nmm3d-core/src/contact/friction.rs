@@ -64,6 +64,7 @@ mod tests {
             warning: Warning::default(),
             times: ContactTimes::default(),
             locked: false,
+            last_changes: Vec::new(),
         }
     }
 

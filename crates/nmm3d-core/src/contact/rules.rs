@@ -17,6 +17,7 @@ impl ContactSet {
         let locked = self.locked;
         let (band, reclose, max_reclose) = (self.params.band, self.params.reclose, self.params.max_reclose);
         let mut changed = 0;
+        self.last_changes.clear();
         // Largest change of a sliding point's friction force, and the largest friction limit.
         let (mut turned, mut largest) = (0.0f64, 0.0f64);
         let (mut mismatch, mut total) = (0.0f64, 0.0f64);
@@ -64,6 +65,7 @@ impl ContactSet {
             }
             if new != r.state {
                 changed += 1;
+                self.last_changes.push(r.blocks);
                 if new != ContactState::Stick {
                     r.strength = r.strength.broken();
                 }

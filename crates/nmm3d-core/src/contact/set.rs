@@ -20,6 +20,8 @@ pub struct ContactSet {
     pub times: ContactTimes,
     /// Closed points stay closed and stuck whatever the force (initial equilibrium).
     pub locked: bool,
+    /// Block pairs of the points that changed state in the last open–close iteration.
+    pub last_changes: Vec<(usize, usize)>,
 }
 
 /// Seconds spent in the contact phases.

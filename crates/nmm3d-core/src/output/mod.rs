@@ -1,7 +1,9 @@
-//! Result writers: `summary.json`, `history.csv`, `blocks.csv`, `result.pvd` + `frames/*.vtu`.
+//! Result writers: `summary.json`, `history.csv`, `diagnostics.csv`, `cuts.csv`, `blocks.csv`,
+//! `result.pvd` + `frames/*.vtu`.
 
 pub mod atomic;
 pub mod checks;
+pub mod cuts;
 pub mod progress;
 pub mod tables;
 pub mod vtu;

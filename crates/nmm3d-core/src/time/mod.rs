@@ -2,6 +2,7 @@
 
 pub mod contact_pattern;
 pub mod corotation;
+pub mod cut;
 pub mod energy;
 pub mod integrator;
 mod residual;
@@ -11,6 +12,7 @@ pub mod step_control;
 pub mod stepper;
 mod vectors;
 
+pub use cut::{Cut, CutReason};
 pub use energy::Energy;
 pub use integrator::Newmark;
 pub use stepper::{StepReport, Stepper};

@@ -83,6 +83,7 @@ impl Stepper {
             penalty_raises: s.penalty_raises,
             times: PhaseTimes::default(),
             energy: s.energy,
+            cuts: Vec::new(),
         })
     }
 }

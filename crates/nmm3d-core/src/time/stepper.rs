@@ -10,6 +10,7 @@ use std::time::Instant;
 use nmm3d_geom::Vec3;
 
 use super::contact_pattern::ContactPattern;
+use super::cut::{self, Cut, CutReason};
 use super::energy::Energy;
 use super::integrator::{Newmark, StepCoefficients};
 use super::step_control::{self, Verdict};
@@ -83,6 +84,8 @@ pub struct Stepper {
     pub times: PhaseTimes,
     /// Energy accounts of the run so far (dynamic runs, from the first step on).
     pub energy: Option<Energy>,
+    /// Rejected trials not yet taken by the recorder.
+    pub cuts: Vec<Cut>,
 }
 
 impl Stepper {
@@ -112,6 +115,7 @@ impl Stepper {
             penalty_raises: 0,
             times: PhaseTimes::default(),
             energy: None,
+            cuts: Vec::new(),
         };
         stepper.ensure_contact_pattern(sys, 0);
         Ok(stepper)
@@ -211,6 +215,8 @@ impl Stepper {
             let raise = sys.scenario.contact.penalty_raise;
             if too_deep && settled && self.penalty_raises < sys.scenario.contact.max_penalty_raises {
                 self.penalty_raises += 1;
+                let why = self.why(sys, state, dt, CutReason::PenaltyRaised, (&d, ratio));
+                self.cuts.push(why);
                 if let (Some(c), Some(saved)) = (self.contacts.as_mut(), start_records.as_mut()) {
                     c.stiffen(raise);
                     saved.iter_mut().for_each(|r| r.stiffen(raise));
@@ -224,6 +230,15 @@ impl Stepper {
             };
             if too_deep && settled && matches!(verdict, Verdict::Retry(_)) {
                 self.penetration_cuts += 1;
+            }
+            if !matches!(verdict, Verdict::Accept) {
+                let reason = match (settled, too_deep) {
+                    (false, _) => CutReason::OpenCloseUnsettled,
+                    (true, true) => CutReason::Overlap,
+                    (true, false) => CutReason::DisplacementRatio,
+                };
+                let why = self.why(sys, state, dt, reason, (&d, ratio));
+                self.cuts.push(why);
             }
             match verdict {
                 Verdict::Accept => {
@@ -261,17 +276,38 @@ impl Stepper {
                     cuts += 1;
                 }
                 Verdict::Diverged => {
+                    let blocks = self.cuts.last().map_or(String::new(), |c| blocks_named(sys, &c.blocks));
                     let reason = if !settled {
                         format!("the open–close iteration did not settle in {} iterations even at the smallest time step {dt:.3e} s", analysis.max_open_close)
                     } else if too_deep {
                         format!("a contact overlaps by more than {} × the cover size even at the smallest time step {dt:.3e} s and the raised penalty", sys.scenario.contact.max_penetration_ratio)
                     } else {
                         format!("the step displacement ratio is {ratio:.3e} even at the smallest time step {dt:.3e} s")
-                    };
+                    } + &blocks;
                     return Err(Error::Diverged { step: state.step + 1, time: state.time, reason });
                 }
             }
         }
+    }
+
+    /// Why the trial of `dt` is rejected, and the blocks responsible.
+    fn why(&self, sys: &System, state: &State, dt: f64, reason: CutReason, (d, ratio): (&[Vec3], f64)) -> Cut {
+        let contacts = self.contacts.as_ref();
+        let (value, blocks) = match reason {
+            CutReason::DisplacementRatio => {
+                let limit = sys.scenario.analysis.max_displacement_ratio * sys.half_size;
+                (ratio, cut::moved_too_far(sys, d, limit))
+            }
+            CutReason::OpenCloseUnsettled => {
+                (contacts.map_or(0, |c| c.last_changes.len()) as f64, cut::unsettled(contacts))
+            }
+            CutReason::Overlap | CutReason::PenaltyRaised => {
+                let depth = sys.scenario.contact.max_penetration_ratio * sys.covers.mesh.size;
+                let (blocks, deepest) = cut::overlapping(contacts, depth);
+                (deepest, blocks)
+            }
+        };
+        Cut { step: state.step + 1, time: state.time, dt, reason, value, blocks }
     }
 
     /// Add an accepted step to the energy accounts (dynamic runs outside the initial
@@ -386,6 +422,18 @@ impl Stepper {
         state.time += dt;
         state.step += 1;
     }
+}
+
+/// ": blocks 3 (body \"layer\"), 7 (…)" for the error message, or nothing.
+fn blocks_named(sys: &System, blocks: &[usize]) -> String {
+    if blocks.is_empty() {
+        return String::new();
+    }
+    let named: Vec<String> = blocks
+        .iter()
+        .map(|&b| format!("{b} (body \"{}\")", sys.scenario.body[sys.geometry.blocks[b].body].name))
+        .collect();
+    format!("; blocks responsible: {}", named.join(", "))
 }
 
 /// What every trial of a step solves with: the unbalanced force at the start, M v and M a of

@@ -1,0 +1,52 @@
+//! Contract: every rejected trial is in `cuts.csv` with its reason and the blocks responsible,
+//! and `summary.json` → `step_diagnostics` counts them and bins the accepted steps.
+
+mod common;
+
+use common::{example, run_ok, with};
+
+/// A cube thrown down past a fixed one far away: its first steps are cut for moving too far,
+/// and only it is named.
+#[test]
+fn a_falling_cube_is_named_in_every_displacement_cut() {
+    let fixed = "[[body]]\nname = \"pillar\"\nmaterial = \"rock\"\nfixed = true\n\
+                 shape = { box = { min = [5.0, 0.0, -20.0], max = [6.0, 1.0, 1.0] } }\n\n[[body]]\nname = \"cube\"";
+    let text = with(&example("free_fall.toml"), "[[body]]\nname = \"cube\"", fixed);
+    let text = with(&text, "velocity = [0.0, 0.0, 0.0]", "velocity = [0.0, 0.0, -20.0]");
+    let out = run_ok(&text, "step_diagnostics_fall");
+    let s = &out.summary;
+    let cuts = s["step_cuts"].as_u64().unwrap();
+    assert!(cuts >= 1, "the throw must cut a step: {s}");
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("step_diagnostics_fall");
+    let csv = std::fs::read_to_string(dir.join("cuts.csv")).unwrap();
+    // The cube's id in blocks.csv (moving blocks are numbered first).
+    let blocks = std::fs::read_to_string(dir.join("blocks.csv")).unwrap();
+    let cube: usize = blocks
+        .lines()
+        .find(|l| l.split(',').nth(1) == Some("cube"))
+        .unwrap()
+        .split(',')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some("step,time,dt,reason,value,blocks"));
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len() as u64, cuts);
+    for r in &rows {
+        assert_eq!(r[3], "displacement_ratio", "{r:?}");
+        assert!(r[4].parse::<f64>().unwrap() > 1.0, "a ratio beyond 1 was cut: {r:?}");
+        assert_eq!(r[5], cube.to_string(), "only the falling cube is responsible: {r:?}");
+    }
+
+    let d = &s["step_diagnostics"];
+    assert_eq!(d["cuts_by_reason"]["displacement_ratio"].as_u64(), Some(cuts));
+    assert_eq!(d["blocks_most_cut"][0]["block"], cube);
+    assert_eq!(d["blocks_most_cut"][0]["body"], "cube");
+    assert_eq!(d["blocks_most_cut"][0]["cuts"].as_u64(), Some(cuts));
+    let bins = d["dt_histogram"].as_array().unwrap();
+    let steps: u64 = bins.iter().map(|b| b["steps"].as_u64().unwrap()).sum();
+    assert_eq!(steps, s["steps"].as_u64().unwrap(), "every accepted step in one bin");
+    assert!(bins[..bins.len() - 1].iter().any(|b| b["steps"].as_u64() > Some(0)), "some steps below the requested Δt");
+}
