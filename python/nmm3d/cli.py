@@ -1,4 +1,4 @@
-"""The ``nmm3d`` command line. Exit status: 0 done, 2 invalid input, 1 the run failed,
+"""The ``nmm3d`` command line. Exit status: 0 done, 2 invalid input, 1 the run failed or did not converge,
 130 interrupted (Ctrl-C; the outputs so far and ``summary.json`` are written)."""
 
 from __future__ import annotations
@@ -21,10 +21,12 @@ def _parser() -> argparse.ArgumentParser:
     sub = p.add_subparsers(dest="command", required=True)
     run = sub.add_parser("run", help="run a scenario and write its outputs")
     run.add_argument("file", type=Path)
-    run.add_argument("--out", type=Path, required=True, help="output directory")
+    run.add_argument("--out", type=_directory, required=True, help="output directory")
     run.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
                      help="override a scalar or array, e.g. joint.smooth.friction_angle=24")
     run.add_argument("--quiet", action="store_true", help="no progress line")
+    run.add_argument("--overwrite", action="store_true",
+                     help="replace the outputs of an earlier run in --out (without it such a directory is refused)")
     run.add_argument("--resume", action="store_true",
                      help="continue the run whose checkpoint.json is in --out (after Ctrl-C, a crash, or to go on "
                           "past its duration with --set analysis.duration=...)")
@@ -33,12 +35,12 @@ def _parser() -> argparse.ArgumentParser:
     check.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE")
     blocks = sub.add_parser("blocks", help="cut the rock mass into blocks and write the geometry outputs only")
     blocks.add_argument("file", type=Path)
-    blocks.add_argument("--out", type=Path, required=True, help="output directory")
+    blocks.add_argument("--out", type=_directory, required=True, help="output directory")
     blocks.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE")
     study = sub.add_parser("study", help="run the scenario's [study] (critical friction, strength reduction, sweep, "
                            "Monte-Carlo) on Dask")
     study.add_argument("file", type=Path)
-    study.add_argument("--out", type=Path, required=True, help="study directory (rerun with the same one to resume)")
+    study.add_argument("--out", type=_directory, required=True, help="study directory (rerun with the same one to resume)")
     study.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE")
     study.add_argument("--workers", type=int, default=None, help="local worker processes (default: the cores)")
     study.add_argument("--scheduler", default=None, metavar="ADDRESS",
@@ -52,8 +54,24 @@ def _parser() -> argparse.ArgumentParser:
     return p
 
 
+USED_MARKERS = ("summary.json", "history.csv", "checkpoint.json")
+"""Files whose presence says a directory holds an earlier run's outputs."""
+
+
+def _directory(text: str) -> Path:
+    """An output directory; an empty name would silently mean the working directory."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("the output directory must not be empty (use . for this one)")
+    return Path(text)
+
+
 def _run(args: argparse.Namespace) -> int:
     scenario = load(args.file, args.overrides)
+    used = [m for m in USED_MARKERS if (args.out / m).exists()]
+    if used and not (args.overwrite or args.resume):
+        print(f"nmm3d: {args.out} holds the outputs of an earlier run ({', '.join(used)}): add --overwrite to "
+              f"replace them, --resume to continue that run, or choose another --out", file=sys.stderr)
+        return EXIT_INPUT
     try:
         result = scenario.run(args.out, progress=not args.quiet, resume=args.resume)
     except KeyboardInterrupt as e:
@@ -68,7 +86,8 @@ def _run(args: argparse.Namespace) -> int:
         print(line)
         _print_answers(s)
         return EXIT_OK
-    print(f"nmm3d: run failed: {s['message']}", file=sys.stderr)
+    what = "not converged" if s["status"] == "not_converged" else "run failed"
+    print(f"nmm3d: {what}: {s['message']}", file=sys.stderr)
     print(f"outputs up to the last good step are in {args.out}", file=sys.stderr)
     return EXIT_FAILED
 
@@ -144,10 +163,17 @@ def _plot(args: argparse.Namespace) -> int:
     if not (args.dir / "history.csv").is_file():
         print(f"nmm3d: {args.dir} has no history.csv (is it a run's output directory?)", file=sys.stderr)
         return EXIT_INPUT
-    print(plot_history(args.dir, args.out))
-    if (args.dir / "diagnostics.csv").is_file():
-        beside = None if args.out is None else args.out.with_name(args.out.stem + "_diagnostics.png")
-        print(plot_diagnostics(args.dir, beside))
+    if args.out is not None:
+        args.out.parent.mkdir(parents=True, exist_ok=True)
+    try:
+        print(plot_history(args.dir, args.out))
+        if (args.dir / "diagnostics.csv").is_file():
+            beside = None if args.out is None else args.out.with_name(args.out.stem + "_diagnostics.png")
+            print(plot_diagnostics(args.dir, beside))
+    except (UnicodeDecodeError, ValueError, IndexError, KeyError) as e:
+        print(f"nmm3d: {args.dir}: its tables are not the ones nmm3d writes ({type(e).__name__}: {e})",
+              file=sys.stderr)
+        return EXIT_INPUT
     return EXIT_OK
 
 

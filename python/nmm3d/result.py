@@ -28,7 +28,8 @@ class Result:
 
     @property
     def status(self) -> str:
-        """``"completed"``, ``"failed"`` or ``"interrupted"`` (Ctrl-C)."""
+        """``"completed"``, ``"failed"``, ``"interrupted"`` (Ctrl-C) or ``"not_converged"`` (a
+        static run that reached its duration or ``max_steps`` before equilibrium)."""
         return str(self.summary["status"])
 
     @property

@@ -15,7 +15,7 @@ use crate::contact::ContactSet;
 use crate::error::{Error, Result};
 use crate::monitor::MonitorPlan;
 use crate::output::progress::{Progress, ProgressMode};
-use crate::output::{atomic, checks, cuts, tables, vtu};
+use crate::output::{atomic, checks, cuts, run_dir, tables, vtu};
 use crate::scenario::{AnalysisKind, Scenario};
 use crate::state::State;
 use crate::system::System;
@@ -55,8 +55,10 @@ pub struct RunOptions {
 
 /// How the stepping ended (errors aside).
 enum End {
-    /// Reached the duration, equilibrium or `max_steps`.
+    /// Reached the duration, equilibrium, or (dynamic) `max_steps`.
     Completed(String),
+    /// A static run that reached its duration or `max_steps` before equilibrium.
+    NotConverged(String),
     /// Stopped on request.
     Interrupted(String),
 }
@@ -67,12 +69,13 @@ enum End {
 pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutcome> {
     let t_start = Instant::now();
     let out = &opts.out;
+    // Held to the end of the run: no other run writes here meanwhile.
+    let _dir = run_dir::open(out, label, !opts.resume)?;
     let resumed = if opts.resume { Some(checkpoint::read(out, &scenario, label)?) } else { None };
     let resumed_at = resumed.as_ref().map(|c| (c.state.step, c.state.time));
     let mut saver = Saver::new(out, checkpoint::comparable(&scenario), scenario.analysis.checkpoint_interval);
     let sys = System::build(scenario, label)?;
     let monitors = MonitorPlan::all(&sys, label)?;
-    std::fs::create_dir_all(out.join("frames")).map_err(|e| Error::io(out, e))?;
     let _ = std::fs::remove_file(out.join("summary.json"));
     tables::write_blocks(&sys, out)?;
     let mut rec = Recorder::new(&sys, monitors, out);
@@ -98,6 +101,7 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
     let (status, message) = match result {
         Ok(End::Completed(m)) => ("completed", m),
         Ok(End::Interrupted(m)) => ("interrupted", m),
+        Ok(End::NotConverged(m)) => ("not_converged", m),
         Err(e @ (Error::Diverged { .. } | Error::Solver { .. })) => ("failed", e.to_string()),
         Err(e) => return Err(e),
     };
@@ -184,17 +188,26 @@ fn advance(
     let a = &sys.scenario.analysis;
     let end = a.duration;
     loop {
+        let unbalanced = rec.last_unbalanced;
+        let static_run = a.kind == AnalysisKind::Static;
         if state.time >= end * (1.0 - 1e-12) {
-            return Ok(End::Completed(match a.kind {
-                AnalysisKind::Dynamic => format!("reached t = {end} s"),
-                AnalysisKind::Static => format!(
-                    "reached the duration t = {end} s before equilibrium (unbalanced force ratio {:.3e})",
-                    rec.last_unbalanced
-                ),
-            }));
+            return Ok(if static_run {
+                End::NotConverged(format!(
+                    "reached the duration t = {end} s before equilibrium (unbalanced force ratio {unbalanced:.3e} > \
+                     equilibrium_tolerance {:.3e})",
+                    a.equilibrium_tolerance
+                ))
+            } else {
+                End::Completed(format!("reached t = {end} s"))
+            });
         }
         if state.step >= a.max_steps {
-            return Ok(End::Completed(format!("stopped at max_steps = {} (t = {} s)", a.max_steps, state.time)));
+            let at = format!("stopped at max_steps = {} (t = {} s)", a.max_steps, state.time);
+            return Ok(if static_run {
+                End::NotConverged(format!("{at} before equilibrium (unbalanced force ratio {unbalanced:.3e})"))
+            } else {
+                End::Completed(at)
+            });
         }
         let cap = (end - state.time).max(0.0);
         let report = stepper.step(sys, state, cap)?;

@@ -5,5 +5,6 @@ pub mod atomic;
 pub mod checks;
 pub mod cuts;
 pub mod progress;
+pub mod run_dir;
 pub mod tables;
 pub mod vtu;
