@@ -15,6 +15,10 @@ use crate::error::{Error, Result};
 /// Read a scenario file and apply the overrides (not validated: `crate::input::load_file`).
 pub fn read_file(path: &Path, overrides: &[String]) -> Result<Scenario> {
     let label = path.display().to_string();
+    // A FIFO or device would block or never end; a directory cannot be read.
+    if path.exists() && !path.is_file() {
+        return Err(Error::input(&label, "<file>", "not a regular file (a directory, FIFO or device)"));
+    }
     let text = std::fs::read_to_string(path)
         .map_err(|e| Error::input(&label, "<file>", format!("cannot read the file: {e}")))?;
     parse_toml(&text, &label, overrides)

@@ -76,7 +76,38 @@ pub fn problems(s: &Scenario) -> Vec<Problem> {
     loads(&mut c, s);
     monitors(&mut c, s);
     expectations(&mut c, s);
+    finite(&mut c, s);
     c.problems
+}
+
+/// Every number of the scenario is finite: NaN and ±inf anywhere (an origin, a velocity, a
+/// point of a shape) are named by their key path, unless a check above named that key already.
+fn finite(c: &mut Checker, s: &Scenario) {
+    let Ok(value) = toml::Value::try_from(s) else { return };
+    let mut found = Vec::new();
+    non_finite("", &value, &mut found);
+    for (path, x) in found {
+        if !c.problems.iter().any(|p| p.path == path) {
+            c.fail(path, format!("must be a finite number, got {x}"));
+        }
+    }
+}
+
+/// Key paths of the non-finite floats under `v` (entries with a `name` addressed by it).
+fn non_finite(path: &str, v: &toml::Value, found: &mut Vec<(String, f64)>) {
+    let join = |key: &str| if path.is_empty() { key.to_string() } else { format!("{path}.{key}") };
+    match v {
+        toml::Value::Float(x) if !x.is_finite() => found.push((path.to_string(), *x)),
+        toml::Value::Table(t) => t.iter().for_each(|(k, x)| non_finite(&join(k), x, found)),
+        toml::Value::Array(a) => {
+            for (i, x) in a.iter().enumerate() {
+                let named = x.get("name").and_then(toml::Value::as_str).filter(|n| !n.is_empty());
+                let at = named.map_or_else(|| format!("{path}[{i}]"), join);
+                non_finite(&at, x, found);
+            }
+        }
+        _ => {}
+    }
 }
 
 fn analysis(c: &mut Checker, a: &Analysis) {

@@ -1,0 +1,55 @@
+"""Bad inputs from the reliability audit end in a clean exit 2 naming what is wrong, never a
+traceback or a hang: non-finite numbers anywhere, a FIFO or a directory as the scenario, plot
+inputs that are not nmm3d's tables, a plot into a folder that does not exist yet."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+
+import pytest
+
+from test_cli import GOOD, nmm3d, write
+
+EXIT_INPUT = 2
+
+
+@pytest.mark.parametrize("key, value, path", [
+    ("cover.origin", "[nan, 0.0, 0.0]", "cover.origin[0]"),
+    ("analysis.gravity", "[0.0, 0.0, -inf]", "analysis.gravity[2]"),
+    ("body.cube.velocity", "[0.0, nan, 0.0]", "body.cube.velocity[1]"),
+    ("material.rock.density", "nan", "material.rock.density"),
+])
+def test_a_non_finite_number_anywhere_is_named(tmp_path, key, value, path):
+    p = write(tmp_path, GOOD)
+    for command in (["check", str(p)], ["run", str(p), "--out", str(tmp_path / "out")]):
+        r = nmm3d(*command, "--set", f"{key}={value}")
+        assert r.returncode == EXIT_INPUT, (command, r.stdout, r.stderr)
+        assert path in r.stderr and "finite" in r.stderr, r.stderr
+        assert "Traceback" not in r.stderr
+        assert r.stderr.count(f": {path}:") == 1, f"reported once: {r.stderr}"
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="FIFOs are POSIX")
+def test_a_fifo_or_a_directory_as_scenario_is_refused_at_once(tmp_path):
+    fifo = tmp_path / "scenario.toml"
+    os.mkfifo(fifo)
+    for target in (fifo, tmp_path):
+        r = subprocess.run([sys.executable, "-m", "nmm3d", "check", str(target)], capture_output=True, text=True,
+                           timeout=60)
+        assert r.returncode == EXIT_INPUT, r.stderr
+        assert "not a regular file" in r.stderr and "Traceback" not in r.stderr
+
+
+def test_plot_makes_its_folder_and_refuses_foreign_tables(tmp_path):
+    out = tmp_path / "run"
+    assert nmm3d("run", str(write(tmp_path, GOOD)), "--out", str(out)).returncode == 0
+    png = tmp_path / "figures" / "new" / "history.png"
+    r = nmm3d("plot", str(out), "--out", str(png))
+    assert r.returncode == 0, r.stderr
+    assert png.is_file() and png.with_name("history_diagnostics.png").is_file()
+    (out / "history.csv").write_bytes(b"time,step,cube.displacement.x\xff\n0,0,1\n")
+    r = nmm3d("plot", str(out))
+    assert r.returncode == EXIT_INPUT and "not the ones nmm3d writes" in r.stderr, r.stderr
+    assert "Traceback" not in r.stderr
