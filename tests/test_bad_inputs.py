@@ -53,3 +53,33 @@ def test_plot_makes_its_folder_and_refuses_foreign_tables(tmp_path):
     r = nmm3d("plot", str(out))
     assert r.returncode == EXIT_INPUT and "not the ones nmm3d writes" in r.stderr, r.stderr
     assert "Traceback" not in r.stderr
+
+
+@pytest.mark.parametrize("override, key", [
+    ("cover.size=1e-4", "cover.size"),
+    ("joint_set.0.spacing=1e-12", "joint_set[0].spacing"),
+    ("joint_set.0.spacing=5e-324", "joint_set[0].spacing"),
+])
+def test_a_model_beyond_the_memory_limit_is_refused_before_anything_is_built(tmp_path, override, key):
+    text = GOOD.replace("[[body]]", '[[joint]]\nname = "j"\nfriction_angle = 30.0\n\n[[body]]', 1)
+    text += '\n[[joint_set]]\ndip = 30.0\ndip_direction = 90.0\nspacing = 0.25\njoint = "j"\n'
+    p = write(tmp_path, text)
+    assert nmm3d("check", str(p)).returncode == 0
+    for command in (["check", str(p)], ["run", str(p), "--out", str(tmp_path / "out")],
+                    ["blocks", str(p), "--out", str(tmp_path / "blocks")]):
+        r = subprocess.run([sys.executable, "-m", "nmm3d", *command, "--set", override], capture_output=True,
+                           text=True, timeout=60)
+        assert r.returncode == EXIT_INPUT, (command, r.stderr)
+        assert f": {key}:" in r.stderr and "analysis.max_memory" in r.stderr, r.stderr
+    # The limit is a key: a tight one refuses even the small model.
+    r = nmm3d("check", str(p), "--set", "analysis.max_memory=1e3")
+    assert r.returncode == EXIT_INPUT and "more than the" in r.stderr, r.stderr
+
+
+def test_a_tunnel_of_billions_of_segments_is_refused_at_once(tmp_path):
+    from conftest import EXAMPLES
+
+    r = subprocess.run([sys.executable, "-m", "nmm3d", "check", str(EXAMPLES / "tunnel_key_blocks.toml"), "--set",
+                        "excavation.0.shape.tunnel.segments=4294967295"], capture_output=True, text=True, timeout=60)
+    assert r.returncode == EXIT_INPUT, r.stderr
+    assert "excavation[0].shape.tunnel" in r.stderr and "10000" in r.stderr

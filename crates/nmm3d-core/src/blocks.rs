@@ -45,7 +45,7 @@ pub fn cover_report(scenario: &Scenario) -> Value {
     let t = std::time::Instant::now();
     let c = &scenario.cover;
     let ext = geometry.aabb().extent();
-    let size = c.size.unwrap_or(0.1 * ext.x.min(ext.y).min(ext.z));
+    let size = crate::model::estimate::cover_size(c, ext);
     let mesh = crate::cover::MathMesh::new(size, nmm3d_geom::Vec3::from(c.origin), c.rotation);
     let covers = crate::cover::Covers::build(&geometry, mesh, crate::cover::PatternTable::new(c.pattern));
     json!({

@@ -1,10 +1,12 @@
 //! Loading a scenario whole: parsed and its keys checked (`scenario`), its shapes checked by the
 //! model that will build them (`model`); every problem reported together, each with its key
-//! path. The one entry point for files, TOML text and JSON (Python dictionaries).
+//! path, and its estimated memory within `analysis.max_memory` (`model::estimate`). The one
+//! entry point for files, TOML text and JSON (Python dictionaries).
 
 use std::path::Path;
 
 use crate::error::{Error, Result};
+use crate::model::estimate;
 use crate::model::shape::shape_problems;
 use crate::scenario::{self, Scenario};
 
@@ -26,6 +28,10 @@ pub fn from_json_str(text: &str, label: &str, overrides: &[String]) -> Result<Sc
 fn checked(s: Scenario, label: &str) -> Result<Scenario> {
     let mut problems = scenario::problems(&s);
     problems.extend(shape_problems(&s));
+    if problems.is_empty() {
+        // Only a scenario whose every value is valid can be costed.
+        problems.extend(estimate::problems(&s));
+    }
     if problems.is_empty() {
         Ok(s)
     } else {

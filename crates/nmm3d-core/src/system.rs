@@ -56,7 +56,7 @@ impl System {
         let geometry = Geometry::from_scenario(&scenario);
         let bb = geometry.aabb();
         let ext = bb.extent();
-        let size = scenario.cover.size.unwrap_or(0.1 * ext.x.min(ext.y).min(ext.z));
+        let size = crate::model::estimate::cover_size(&scenario.cover, ext);
         let c = &scenario.cover;
         let mesh = MathMesh::new(size, Vec3::from(c.origin), c.rotation);
         let covers = Covers::build(&geometry, mesh, PatternTable::new(c.pattern));

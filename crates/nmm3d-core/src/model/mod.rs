@@ -2,6 +2,7 @@
 
 pub mod block;
 pub mod cutting;
+pub mod estimate;
 pub mod material;
 pub mod shape;
 pub mod tags;

@@ -120,6 +120,12 @@ fn analysis(c: &mut Checker, a: &Analysis) {
     if !(a.krylov_tolerance > 0.0 && a.krylov_tolerance < 1.0) {
         c.fail("analysis.krylov_tolerance", format!("must lie in (0, 1), got {}", a.krylov_tolerance));
     }
+    if !(a.max_memory >= 0.0 && a.max_memory.is_finite()) {
+        c.fail(
+            "analysis.max_memory",
+            format!("must be a finite number of bytes >= 0 (0: automatic), got {}", a.max_memory),
+        );
+    }
     if a.krylov_max_iterations == 0 {
         c.fail("analysis.krylov_max_iterations", "must be at least 1");
     }

@@ -99,6 +99,9 @@ pub struct Analysis {
     /// PCG iterations before the matrix is factorised instead; a factor that needed more
     /// than half of them is renewed at the next solve (addition).
     pub krylov_max_iterations: u32,
+    /// Memory a run may plan to use [B]; a scenario estimated beyond it is refused as input;
+    /// 0 = 80 % of this machine's memory (addition).
+    pub max_memory: f64,
 }
 
 /// Fill-reducing ordering of the sparse Cholesky factorisation.
@@ -158,6 +161,7 @@ impl Default for Analysis {
             factor_reuse: true,
             krylov_tolerance: 1e-10,
             krylov_max_iterations: 12,
+            max_memory: 0.0,
         }
     }
 }
