@@ -68,3 +68,15 @@ def test_a_static_run_short_of_equilibrium_is_not_converged(tmp_path):
     r = nmm3d("run", str(EXAMPLES / "cantilever.toml"), "--out", str(out), "--overwrite", "--set", "cover.size=0.5")
     assert r.returncode == 0, r.stderr
     assert json.loads((out / "summary.json").read_text())["status"] == "completed"
+
+
+def test_an_output_that_cannot_be_written_still_leaves_a_failed_summary(tmp_path):
+    p, out = write(tmp_path, GOOD), tmp_path / "out"
+    # The last frame's file name is taken by a directory: writing it fails mid-run.
+    (out / "frames" / "blocks_00001.vtu").mkdir(parents=True)
+    r = nmm3d("run", str(p), "--out", str(out))
+    assert r.returncode == EXIT_FAILED, r.stderr
+    assert "blocks_00001.vtu" in r.stderr and "Traceback" not in r.stderr
+    s = json.loads((out / "summary.json").read_text())
+    assert s["status"] == "failed" and "blocks_00001.vtu" in s["message"], s
+    assert s["steps"] >= 1

@@ -103,11 +103,11 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
         Ok(End::Interrupted(m)) => ("interrupted", m),
         Ok(End::NotConverged(m)) => ("not_converged", m),
         Err(e @ (Error::Diverged { .. } | Error::Solver { .. })) => ("failed", e.to_string()),
-        Err(e) => return Err(e),
+        Err(e) => return Err(failed(&sys, &state, &stepper, &rec, e, t_start)),
     };
-    rec.finish(&sys, &state, stepper.contacts())?;
-    if status != "failed" {
-        saver.save(&state, &stepper, &rec)?;
+    let written = rec.finish(&sys, &state, stepper.contacts());
+    if let Err(e) = written.and_then(|_| if status == "failed" { Ok(()) } else { saver.save(&state, &stepper, &rec) }) {
+        return Err(failed(&sys, &state, &stepper, &rec, e, t_start));
     }
     let mut summary = summary(&sys, &state, &stepper, &rec, status, &message, t_start.elapsed().as_secs_f64());
     if let Some(map) = summary.as_object_mut() {
@@ -122,6 +122,16 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
     let text = serde_json::to_string_pretty(&summary).expect("a JSON value serialises");
     atomic::write(&out.join("summary.json"), text.as_bytes())?;
     Ok(RunOutcome { summary, completed: status == "completed" })
+}
+
+/// An error that stopped the run's outputs (a disk full, a directory gone): a `summary.json`
+/// saying `failed` with the reason is still written where the disk allows; the error is
+/// returned.
+fn failed(sys: &System, state: &State, stepper: &Stepper, rec: &Recorder, e: Error, t_start: Instant) -> Error {
+    let summary = summary(sys, state, stepper, rec, "failed", &e.to_string(), t_start.elapsed().as_secs_f64());
+    let text = serde_json::to_string_pretty(&summary).expect("a JSON value serialises");
+    let _ = atomic::write(&rec.out.join("summary.json"), text.as_bytes());
+    e
 }
 
 /// Where progress goes: nowhere, a terminal line, or periodic lines in a log.

@@ -119,7 +119,7 @@ pub fn problems(s: &Scenario) -> Vec<Problem> {
         let path = k.map_or("joint_plane".to_string(), |k| format!("joint_set[{k}].spacing"));
         (path, format!("up to {:.3e} blocks", e.blocks))
     } else {
-        ("cover.size".to_string(), format!("{:.3e} cover nodes of {} m", e.nodes, e.cover_size))
+        ("cover.size".to_string(), format!("{:.3e} cover nodes of {:.3e} m", e.nodes, e.cover_size))
     };
     let reason = format!(
         "the model would need {} ({what}), more than the {} allowed (analysis.max_memory; 0 = {:.0} % of this machine's memory)",

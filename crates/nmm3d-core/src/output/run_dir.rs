@@ -79,7 +79,7 @@ fn clear(out: &Path) -> Result<()> {
         remove_if_present(&out.join(name))?;
     }
     let frames = std::fs::read_dir(out.join("frames")).map_err(|e| Error::io(out.join("frames"), e))?;
-    for entry in frames.flatten() {
+    for entry in frames.flatten().filter(|e| e.file_type().is_ok_and(|t| t.is_file())) {
         let path = entry.path();
         if path.extension().is_some_and(|x| x == "vtu") {
             remove_if_present(&path)?;

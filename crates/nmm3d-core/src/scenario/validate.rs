@@ -81,13 +81,16 @@ pub fn problems(s: &Scenario) -> Vec<Problem> {
 }
 
 /// Every number of the scenario is finite: NaN and ±inf anywhere (an origin, a velocity, a
-/// point of a shape) are named by their key path, unless a check above named that key already.
+/// point of a shape) are named by their key path, unless a check above named that key (or the
+/// array or table holding it) already.
 fn finite(c: &mut Checker, s: &Scenario) {
     let Ok(value) = toml::Value::try_from(s) else { return };
     let mut found = Vec::new();
     non_finite("", &value, &mut found);
     for (path, x) in found {
-        if !c.problems.iter().any(|p| p.path == path) {
+        let named =
+            |p: &Problem| p.path == path || path.strip_prefix(&p.path).is_some_and(|rest| rest.starts_with(['[', '.']));
+        if !c.problems.iter().any(named) {
             c.fail(path, format!("must be a finite number, got {x}"));
         }
     }

@@ -1,0 +1,183 @@
+"""Bad inputs and hostile conditions, as a user meets them; writes docs/reliability.md.
+
+Run: python bench/reliability.py
+
+Each case runs the installed `nmm3d` command line in a fresh temporary directory and records
+its exit status, whether a Python traceback reached the user, the first line of its message
+and its wall time. `tests/test_reliability.py` runs the same cases and requires the expected
+exit status and no traceback, so every row of the table is a regression test.
+"""
+
+from __future__ import annotations
+
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable
+
+ROOT = Path(__file__).resolve().parent.parent
+EXAMPLES = ROOT / "examples"
+
+CUBE = """
+[analysis]
+duration = 0.05
+dt = 0.01
+gravity = [0.0, 0.0, -10.0]
+
+[cover]
+size = 0.5
+
+[[material]]
+name = "rock"
+density = 2500.0
+young = 1.0e9
+poisson = 0.25
+
+[[joint]]
+name = "j"
+friction_angle = 30.0
+
+[[body]]
+name = "cube"
+material = "rock"
+joint = "j"
+shape = { box = { min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0] } }
+
+[[monitor]]
+name = "cube"
+select = { body = "cube" }
+quantities = ["displacement"]
+"""
+
+SET = '\n[[joint_set]]\ndip = 30.0\ndip_direction = 90.0\nspacing = 0.25\njoint = "j"\n'
+OK, FAILED, INPUT = 0, 1, 2
+
+
+@dataclass
+class Case:
+    """One thing tried: `args` after `nmm3d` ({s}: the scenario file, {d}: the work directory)."""
+
+    group: str
+    what: str
+    args: list[str]
+    expect: int
+    scenario: str = CUBE
+    prepare: Callable[[Path], None] = field(default=lambda d: None)
+
+
+def _used(d: Path) -> None:
+    subprocess.run([sys.executable, "-m", "nmm3d", "run", str(d / "s.toml"), "--out", str(d / "out"), "--quiet"],
+                   check=True, capture_output=True)
+
+
+def _locked(d: Path) -> None:
+    (d / "out").mkdir()
+    (d / "out" / ".nmm3d.lock").write_text(str(os.getpid()))
+
+
+def _frame_taken(d: Path) -> None:
+    (d / "out" / "frames" / "blocks_00001.vtu").mkdir(parents=True)
+
+
+def _fifo(d: Path) -> None:
+    os.mkfifo(d / "fifo.toml")
+
+
+def _bad_history(d: Path) -> None:
+    _used(d)
+    (d / "out" / "history.csv").write_bytes(b"time,step,cube.displacement.x\xff\n0,0,1\n")
+
+
+def _cases() -> list[Case]:
+    run = ["run", "{s}", "--out", "{d}/out", "--quiet"]
+    check = ["check", "{s}"]
+    return [
+        Case("non-finite", "density = nan", [*check, "--set", "material.rock.density=nan"], INPUT),
+        Case("non-finite", "cover origin [nan, 0, 0]", [*run, "--set", "cover.origin=[nan, 0.0, 0.0]"], INPUT),
+        Case("non-finite", "gravity [0, 0, -inf]", [*run, "--set", "analysis.gravity=[0.0, 0.0, -inf]"], INPUT),
+        Case("non-finite", "body velocity [0, nan, 0]", [*run, "--set", "body.cube.velocity=[0.0, nan, 0.0]"], INPUT),
+        Case("huge / tiny", "cover.size = 1e-4 (10¹² cells)", [*run, "--set", "cover.size=1e-4"], INPUT),
+        Case("huge / tiny", "cover.size = 5e-324", [*run, "--set", "cover.size=5e-324"], INPUT),
+        Case("huge / tiny", "max_memory = 1 kB", [*check, "--set", "analysis.max_memory=1e3"], INPUT),
+        Case("spacing extremes", "joint spacing 1e-12 m", [*run, "--set", "joint_set.0.spacing=1e-12"], INPUT, CUBE + SET),
+        Case("spacing extremes", "joint spacing 5e-324 m", [*run, "--set", "joint_set.0.spacing=5e-324"], INPUT,
+             CUBE + SET),
+        Case("spacing extremes", "joint spacing 1e-6 m", ["blocks", "{s}", "--out", "{d}/b", "--set",
+                                                         "joint_set.0.spacing=1e-6"], INPUT, CUBE + SET),
+        Case("spacing extremes", "joint spacing 0 m", [*check, "--set", "joint_set.0.spacing=0"], INPUT, CUBE + SET),
+        Case("huge / tiny", "tunnel of 4 294 967 295 segments",
+             ["check", str(EXAMPLES / "tunnel_key_blocks.toml"), "--set", "excavation.0.shape.tunnel.segments=4294967295"],
+             INPUT),
+        Case("empty bodies", "a box with min = max", [*check, "--set", "body.cube.shape.box.max=[0.0, 0.0, 0.0]"],
+             INPUT),
+        Case("paths", "scenario file missing", ["check", "{d}/missing.toml"], INPUT),
+        Case("paths", "a directory as the scenario", ["check", "{d}"], INPUT),
+        Case("paths", "a FIFO as the scenario (would hang)", ["check", "{d}/fifo.toml"], INPUT, prepare=_fifo),
+        Case("paths", "--out ''", ["run", "{s}", "--out", ""], INPUT),
+        Case("paths", "--out of an earlier run, no --overwrite", run, INPUT, prepare=_used),
+        Case("paths", "--out of an earlier run, --overwrite", [*run, "--overwrite"], OK, prepare=_used),
+        Case("paths", "--out that cannot be created (/proc)", ["run", "{s}", "--out", "/proc/nmm3d-out", "--quiet"],
+             FAILED),
+        Case("concurrency", "--out being written by a live process", run, INPUT, prepare=_locked),
+        Case("full disk", "a frame that cannot be written mid-run", run, FAILED, prepare=_frame_taken),
+        Case("plot inputs", "plot of a directory without history.csv", ["plot", "{d}"], INPUT),
+        Case("plot inputs", "plot of a non-UTF-8 history.csv", ["plot", "{d}/out"], INPUT, prepare=_bad_history),
+        Case("plot inputs", "plot into a folder that does not exist yet",
+             ["plot", "{d}/out", "--out", "{d}/new/dir/h.png"], OK, prepare=_used),
+        Case("divergence", "10⁵ g with no room to cut the step",
+             [*run, "--set", "analysis.min_dt_ratio=1", "--set", "analysis.divergence_ratio=2", "--set",
+              "analysis.gravity=[0.0, 0.0, -1.0e6]"], FAILED),
+        Case("divergence", "static run short of equilibrium",
+             ["run", str(EXAMPLES / "cantilever.toml"), "--out", "{d}/out", "--quiet", "--set", "analysis.max_steps=2",
+              "--set", "cover.size=0.5"], FAILED),
+    ]
+
+
+def run_case(c: Case) -> dict:
+    """Run one case in a fresh directory: exit status, traceback, first message line, seconds."""
+    with tempfile.TemporaryDirectory() as tmp:
+        d = Path(tmp)
+        (d / "s.toml").write_text(c.scenario)
+        c.prepare(d)
+        args = [a.replace("{s}", str(d / "s.toml")).replace("{d}", str(d)) for a in c.args]
+        t0 = time.perf_counter()
+        r = subprocess.run([sys.executable, "-m", "nmm3d", *args], capture_output=True, text=True, timeout=120)
+        seconds = time.perf_counter() - t0
+    lines = [ln for ln in r.stderr.splitlines() if ln.strip() and not ln.lstrip().startswith(("usage:", "["))]
+    message = next((ln for ln in lines if ln.startswith("nmm3d")), lines[0] if lines else "")
+    if message.endswith("invalid input:"):  # the problems follow, one per line
+        message = lines[lines.index(message) + 1]
+    message = message.replace(str(d), "DIR").replace(str(ROOT) + "/", "")
+    return {"exit": r.returncode, "traceback": "Traceback" in r.stderr, "message": message, "seconds": seconds}
+
+
+def main() -> None:
+    rows = [(c, run_case(c)) for c in _cases()]
+    out = [
+        "# Reliability: bad inputs and hostile conditions",
+        "",
+        "`python bench/reliability.py` — each row runs the `nmm3d` command line in a fresh directory;",
+        "`tests/test_reliability.py` runs the same cases and requires the expected exit status and no",
+        "traceback. Exit status: 0 done, 1 the run failed (its `summary.json` says why where the disk",
+        "allows), 2 invalid input (the message names file, key path and reason).",
+        f"Machine: {platform.machine()}, {os.cpu_count()} cores.",
+        "",
+        "| class | tried | exit | expected | traceback | seconds | message (first line) |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for c, r in rows:
+        msg = r["message"].replace("|", "\\|")[:160]
+        out.append(f"| {c.group} | {c.what} | {r['exit']} | {c.expect} | {'yes' if r['traceback'] else 'no'} "
+                   f"| {r['seconds']:.2f} | {msg} |")
+    (ROOT / "docs" / "reliability.md").write_text("\n".join(out) + "\n")
+    bad = [c.what for c, r in rows if r["exit"] != c.expect or r["traceback"]]
+    print(f"{len(rows)} cases, {len(bad)} unexpected: {bad}")
+
+
+if __name__ == "__main__":
+    main()
