@@ -141,6 +141,19 @@ def test_run_prints_the_answer_beside_its_reference(tmp_path):
     assert [c["passed"] for c in s["checks"]] == [True, True]
 
 
+def test_a_bound_checks_a_qualitative_outcome(tmp_path):
+    bounds = ('\n[[expect]]\nquantity = "cube.displacement.z"\nat_most = -0.001\nsource = "it falls"\n'
+              '\n[[expect]]\nquantity = "cube.displacement.z"\nat_least = 0.0\n')
+    r = nmm3d("run", str(write(tmp_path, GOOD + bounds)), "--out", str(tmp_path / "o"), "--quiet")
+    assert r.returncode == 0, r.stderr
+    assert "expected ≤ -0.001 m (it falls): yes" in r.stdout, r.stdout
+    assert "expected ≥ 0 m: NO" in r.stdout, r.stdout
+    s = json.loads((tmp_path / "o" / "summary.json").read_text())
+    assert [(c["passed"], c["reference"]) for c in s["checks"]] == [(True, None), (False, None)]
+    r = nmm3d("check", str(write(tmp_path, GOOD + '\n[[expect]]\nquantity = "cube.displacement.z"\n')))
+    assert r.returncode == 2 and "expect[0]" in r.stderr and "at_least" in r.stderr, r.stderr
+
+
 def test_ctrl_c_stops_after_the_current_step_with_a_valid_summary(tmp_path):
     out = tmp_path / "long"
     p = subprocess.Popen([sys.executable, "-m", "nmm3d", "run", str(EXAMPLES / "incline.toml"), "--out", str(out),

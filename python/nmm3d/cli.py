@@ -111,11 +111,18 @@ def _check_line(c: dict) -> str:
     u = unit(c["quantity"])
     with_unit = lambda x: f"{x:.6g} {u}".rstrip()  # noqa: E731
     value = "missing" if c["value"] is None else with_unit(c["value"])
+    verdict = "within" if c["passed"] else "OUTSIDE"
+    source = f" ({c['source']})" if c["source"] else ""
+    bounds = [f"≥ {with_unit(c['at_least'])}" if c.get("at_least") is not None else "",
+              f"≤ {with_unit(c['at_most'])}" if c.get("at_most") is not None else ""]
+    bounds_text = " and ".join(b for b in bounds if b)
+    if c["reference"] is None:
+        return f"check {c['quantity']} = {value}; expected {bounds_text}{source}: {'yes' if c['passed'] else 'NO'}"
     diff = "" if c["relative_difference"] is None else f", {100 * c['relative_difference']:+.2f} %"
     bound = f"{100 * c['tolerance']:g} %" if c["reference"] != 0 else f"{c['absolute_tolerance']:g} {u}".rstrip()
-    source = f" ({c['source']})" if c["source"] else ""
-    verdict = "within" if c["passed"] else "OUTSIDE"
-    return f"check {c['quantity']} = {value}; reference {with_unit(c['reference'])}{source}{diff}: {verdict} {bound}"
+    also = f", and {bounds_text}" if bounds_text else ""
+    return (f"check {c['quantity']} = {value}; reference {with_unit(c['reference'])}{source}{diff}: "
+            f"{verdict} {bound}{also}")
 
 
 def _check(args: argparse.Namespace) -> int:

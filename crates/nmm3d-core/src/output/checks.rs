@@ -11,13 +11,17 @@ pub fn checks(expect: &[Expect], last: &Map<String, Value>) -> Value {
 }
 
 fn check(e: &Expect, value: Option<f64>) -> Value {
-    let diff = value.map(|v| v - e.reference);
-    let relative = diff.filter(|_| e.reference != 0.0).map(|d| d / e.reference);
-    let allowed = (e.tolerance * e.reference.abs()).max(e.absolute_tolerance);
-    let passed = diff.is_some_and(|d| d.abs() <= allowed);
+    let diff = value.zip(e.reference).map(|(v, r)| v - r);
+    let relative = diff.zip(e.reference.filter(|&r| r != 0.0)).map(|(d, r)| d / r);
+    let allowed = (e.tolerance * e.reference.unwrap_or(0.0).abs()).max(e.absolute_tolerance);
+    let near = e.reference.is_none() || diff.is_some_and(|d| d.abs() <= allowed);
+    let above = e.at_least.is_none_or(|lo| value.is_some_and(|v| v >= lo));
+    let below = e.at_most.is_none_or(|hi| value.is_some_and(|v| v <= hi));
+    let passed = value.is_some() && near && above && below;
     json!({
         "quantity": e.quantity, "value": value, "reference": e.reference, "relative_difference": relative,
-        "tolerance": e.tolerance, "absolute_tolerance": e.absolute_tolerance, "passed": passed, "source": e.source,
+        "tolerance": e.tolerance, "absolute_tolerance": e.absolute_tolerance, "at_least": e.at_least,
+        "at_most": e.at_most, "passed": passed, "source": e.source,
     })
 }
 
@@ -28,9 +32,11 @@ mod tests {
     fn expect(reference: f64, tolerance: f64, absolute_tolerance: f64) -> Expect {
         Expect {
             quantity: "tip.displacement.z".into(),
-            reference,
+            reference: Some(reference),
             tolerance,
             absolute_tolerance,
+            at_least: None,
+            at_most: None,
             source: String::new(),
         }
     }
@@ -63,5 +69,21 @@ mod tests {
         let c = checks(&[expect(1.0, 0.5, 0.0)], &Map::new());
         assert_eq!(c[0]["passed"], json!(false));
         assert_eq!(c[0]["value"], Value::Null);
+    }
+
+    #[test]
+    fn bounds_judge_a_qualitative_outcome() {
+        let bounded = |at_least, at_most| Expect { reference: None, at_least, at_most, ..expect(0.0, 0.01, 0.0) };
+        let passed = |e: Expect, v: f64| checks(&[e], &last(v))[0]["passed"] == json!(true);
+        assert!(passed(bounded(Some(0.15), None), 0.3));
+        assert!(!passed(bounded(Some(0.15), None), 0.1));
+        assert!(passed(bounded(None, Some(-0.15)), -0.2));
+        assert!(!passed(bounded(Some(-1.0), Some(-0.15)), -0.1));
+        assert!(!checks(&[bounded(Some(0.0), None)], &Map::new())[0]["passed"].as_bool().unwrap(), "missing value");
+        // A reference and a bound: both must hold.
+        let both = Expect { at_most: Some(-0.0396), ..expect(-0.04, 0.01, 0.0) };
+        assert!(passed(both.clone(), -0.0397));
+        assert!(!passed(both, -0.0395));
+        assert_eq!(checks(&[bounded(Some(0.15), None)], &last(0.3))[0]["reference"], Value::Null);
     }
 }

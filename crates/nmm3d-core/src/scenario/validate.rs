@@ -361,8 +361,13 @@ fn expectations(c: &mut Checker, s: &Scenario) {
                 format!("'{}' is not a monitored column (<monitor>.<quantity>.<component>)", e.quantity),
             );
         }
-        if !e.reference.is_finite() {
-            c.fail(format!("{p}.reference"), "must be a finite number");
+        for (k, v) in [("reference", e.reference), ("at_least", e.at_least), ("at_most", e.at_most)] {
+            if v.is_some_and(|v| !v.is_finite()) {
+                c.fail(format!("{p}.{k}"), "must be a finite number");
+            }
+        }
+        if e.reference.is_none() && e.at_least.is_none() && e.at_most.is_none() {
+            c.fail(p.clone(), "give a reference, at_least or at_most");
         }
         for (k, v) in [("tolerance", e.tolerance), ("absolute_tolerance", e.absolute_tolerance)] {
             if !(v >= 0.0 && v.is_finite()) {

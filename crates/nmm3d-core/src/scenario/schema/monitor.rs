@@ -86,8 +86,16 @@ impl Quantity {
 pub struct Expect {
     /// A column of `history.csv`: `<monitor>.<quantity>.<component>`.
     pub quantity: String,
-    /// Reference value, in the column's unit.
-    pub reference: f64,
+    /// Reference value, in the column's unit (absent: only the bounds are checked).
+    #[serde(default)]
+    pub reference: Option<f64>,
+    /// The final value must be at least this, in the column's unit (a qualitative outcome:
+    /// "the domino falls") (addition).
+    #[serde(default)]
+    pub at_least: Option<f64>,
+    /// The final value must be at most this, in the column's unit (addition).
+    #[serde(default)]
+    pub at_most: Option<f64>,
     /// Allowed relative difference, a fraction of |reference| [-].
     #[serde(default = "Expect::default_tolerance")]
     pub tolerance: f64,
