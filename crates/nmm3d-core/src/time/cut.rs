@@ -103,6 +103,18 @@ pub fn overlapping(contacts: Option<&ContactSet>, depth: f64) -> (Vec<usize>, f6
     (ranked(worst), deepest)
 }
 
+/// ": blocks 3 (body \"layer\"), 7 (…)" for the error message, or nothing.
+pub fn named(sys: &System, blocks: &[usize]) -> String {
+    if blocks.is_empty() {
+        return String::new();
+    }
+    let named: Vec<String> = blocks
+        .iter()
+        .map(|&b| format!("{b} (body \"{}\")", sys.scenario.body[sys.geometry.blocks[b].body].name))
+        .collect();
+    format!("; blocks responsible: {}", named.join(", "))
+}
+
 /// The blocks by decreasing measure (ties by block number), at most [`MAX_BLOCKS`].
 fn ranked(mut measured: Vec<(usize, f64)>) -> Vec<usize> {
     measured.sort_by(|p, q| q.1.total_cmp(&p.1).then(p.0.cmp(&q.0)));

@@ -7,6 +7,7 @@ pub mod energy;
 pub mod integrator;
 mod residual;
 pub mod settle;
+mod setup;
 pub mod snapshot;
 pub mod step_control;
 pub mod stepper;

@@ -7,7 +7,8 @@
 use serde::{Deserialize, Serialize};
 
 use super::contact_pattern::{ContactPattern, PatternSnapshot};
-use super::stepper::{contact_params, solver, PhaseTimes, Stepper};
+use super::setup::{contact_params, solver};
+use super::stepper::{PhaseTimes, Stepper};
 use super::vectors::solver_error;
 use super::{Energy, Newmark};
 use crate::contact::snapshot::ContactSnapshot;

@@ -13,12 +13,13 @@ use super::contact_pattern::ContactPattern;
 use super::cut::{self, Cut, CutReason};
 use super::energy::Energy;
 use super::integrator::{Newmark, StepCoefficients};
+use super::setup::{contact_params, solver};
 use super::step_control::{self, Verdict};
 use super::vectors::{equation_vector, gather, kinetic_energy, mass_times, scale, scatter_into, solver_error};
-use crate::contact::{overlap_problems, ContactParams, ContactSet};
+use crate::contact::{overlap_problems, ContactSet};
 use crate::error::{Error, Result};
-use crate::scenario::{AnalysisKind, Stiffness};
-use crate::solver::{FactorReuse, FaerCholesky, ReusingSolver, SolveCounts, Solved};
+use crate::scenario::AnalysisKind;
+use crate::solver::{ReusingSolver, SolveCounts, Solved};
 use crate::state::State;
 use crate::system::System;
 
@@ -276,7 +277,7 @@ impl Stepper {
                     cuts += 1;
                 }
                 Verdict::Diverged => {
-                    let blocks = self.cuts.last().map_or(String::new(), |c| blocks_named(sys, &c.blocks));
+                    let blocks = self.cuts.last().map_or(String::new(), |c| cut::named(sys, &c.blocks));
                     let reason = if !settled {
                         format!("the open–close iteration did not settle in {} iterations even at the smallest time step {dt:.3e} s", analysis.max_open_close)
                     } else if too_deep {
@@ -424,18 +425,6 @@ impl Stepper {
     }
 }
 
-/// ": blocks 3 (body \"layer\"), 7 (…)" for the error message, or nothing.
-fn blocks_named(sys: &System, blocks: &[usize]) -> String {
-    if blocks.is_empty() {
-        return String::new();
-    }
-    let named: Vec<String> = blocks
-        .iter()
-        .map(|&b| format!("{b} (body \"{}\")", sys.scenario.body[sys.geometry.blocks[b].body].name))
-        .collect();
-    format!("; blocks responsible: {}", named.join(", "))
-}
-
 /// What every trial of a step solves with: the unbalanced force at the start, M v and M a of
 /// the start, and the Newmark coefficients of the trial's Δt.
 #[derive(Clone, Copy)]
@@ -454,46 +443,4 @@ struct Increment<'a> {
     kinetic0: f64,
     friction: f64,
     springs: f64,
-}
-
-/// The direct solver (faer's Cholesky) with factor reuse as `[analysis]` asks.
-pub(super) fn solver(sys: &System) -> ReusingSolver {
-    let a = &sys.scenario.analysis;
-    let reuse =
-        FactorReuse { enabled: a.factor_reuse, tolerance: a.krylov_tolerance, max_iterations: a.krylov_max_iterations };
-    ReusingSolver::new(Box::new(FaerCholesky::new(a.ordering)), reuse)
-}
-
-/// Contact penalties and tolerances from the scenario's `[contact]`, read once ("auto":
-/// k_n = `auto_penalty_factor` × largest E × cover size, k_s = k_n; detection margin twice the
-/// largest step displacement plus the support tolerance, the warning skin `warning_skin` × it).
-pub(super) fn contact_params(sys: &System) -> ContactParams {
-    let (a, k) = (&sys.scenario.analysis, &sys.scenario.contact);
-    let young = sys.geometry.materials.iter().map(|m| m.young).fold(0.0, f64::max);
-    let size = sys.covers.mesh.size;
-    let kn = match k.normal_stiffness {
-        Stiffness::Value(v) => v,
-        Stiffness::Auto => k.auto_penalty_factor * young * size,
-    };
-    let ks = match k.shear_stiffness {
-        Stiffness::Value(v) => v,
-        Stiffness::Auto => kn,
-    };
-    let tolerance = k.tolerance_ratio * size;
-    let margin = 2.0 * a.max_displacement_ratio * sys.half_size + tolerance;
-    ContactParams {
-        kn,
-        ks,
-        size,
-        margin,
-        skin: k.warning_skin * margin,
-        tolerance,
-        band: k.gap_band * size,
-        reclose: k.reclose_depth * tolerance,
-        max_reclose: k.max_reclose,
-        slip_turn: k.slip_turn,
-        touching: k.touching * tolerance,
-        min_share: k.min_area_share,
-        merge: k.merge_ratio * tolerance,
-    }
 }
