@@ -1,29 +1,45 @@
 //! The tangent and the unbalanced force at the current state: the co-rotated elements, the
 //! penalty constraints and the loads (thesis §3.3).
 
-use nmm3d_geom::Vec3;
+use nmm3d_geom::{Mat3, Vec3};
+use rayon::prelude::*;
 
 use super::corotation;
 use super::stepper::Stepper;
 use crate::state::State;
 use crate::system::System;
 
+/// Elements whose local blocks are computed together (in parallel) before they are scattered.
+const ELEMENT_CHUNK: usize = 2048;
+
 impl Stepper {
     /// Tangent into `self.tangent`, unbalanced force per cover returned; updates rotations.
     pub fn assemble(&mut self, sys: &System, state: &mut State) -> Vec<Vec3> {
         self.tangent.iter_mut().for_each(|v| *v = 0.0);
         let mut residual = sys.external.clone();
-        for e in 0..sys.covers.elements.len() {
-            if sys.geometry.blocks[sys.covers.elements[e].block].fixed {
-                continue; // its covers cannot move; its forces would go nowhere
-            }
-            let f = corotation::deformation_gradient(sys, state, e);
-            let r = corotation::rotation(&f, &state.rotations[e]);
-            state.rotations[e] = r;
-            let (fint, t) = corotation::internal_force_and_tangent(sys, state, e, &r);
-            sys.assembler.add(&mut self.tangent, e, &t);
-            for (a, &c) in sys.covers.elements[e].covers.iter().enumerate() {
-                residual[c] -= fint[a];
+        // Fixed blocks' covers cannot move; their forces would go nowhere.
+        let moving: Vec<usize> = (0..sys.covers.elements.len())
+            .filter(|&e| !sys.geometry.blocks[sys.covers.elements[e].block].fixed)
+            .collect();
+        // The local blocks of a chunk in parallel, scattered in element order: the same sums
+        // in the same order whatever the thread count (bit-identical results), and memory for
+        // one chunk's blocks only.
+        for chunk in moving.chunks(ELEMENT_CHUNK) {
+            let local: Vec<(Mat3, Vec<Vec3>, Vec<f64>)> = chunk
+                .par_iter()
+                .map(|&e| {
+                    let f = corotation::deformation_gradient(sys, state, e);
+                    let r = corotation::rotation(&f, &state.rotations[e]);
+                    let (fint, t) = corotation::internal_force_and_tangent(sys, state, e, &r);
+                    (r, fint, t)
+                })
+                .collect();
+            for (&e, (r, fint, t)) in chunk.iter().zip(local) {
+                state.rotations[e] = r;
+                sys.assembler.add(&mut self.tangent, e, &t);
+                for (a, &c) in sys.covers.elements[e].covers.iter().enumerate() {
+                    residual[c] -= fint[a];
+                }
             }
         }
         self.add_penalties(sys, state, &mut residual);
