@@ -64,3 +64,30 @@ def test_a_static_run_has_no_energy_accounts(tmp_path):
 def test_the_dominos_balance_closes(tmp_path):
     result = nmm3d.load(EXAMPLES / "dominos.toml", ["analysis.duration=0.3"]).run(out=tmp_path / "d")
     assert result.summary["energy"]["max_error_ratio"] <= 0.01, result.summary["energy"]
+
+
+def _speed_and_drop(result, monitor: str, g: float):
+    """Per history row: the monitored block's speed² and 2 g × its drop since the start."""
+    h = result.history
+    v2 = sum(h[f"{monitor}.velocity.{a}"] ** 2 for a in "xyz")
+    return v2, 2.0 * g * (-h[f"{monitor}.displacement.z"]).clip(min=0.0)
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_no_block_is_faster_than_its_free_fall(runs, name):
+    # One block on fixed ground, passive contacts: v² ≤ v₀² + 2 g (drop), whatever happens at
+    # an impact (a contact that creates energy would break it: issue 10's 13.9 m/s slip).
+    v2, fall = _speed_and_drop(runs[name], "cube", 10.0)
+    bound = v2[0] + fall
+    assert (v2 <= bound * (1 + 1e-3) + 1e-9).all(), float((v2 - bound).max())
+
+
+def test_no_domino_is_faster_than_the_fastest_start_plus_a_fall_of_its_height(tmp_path):
+    # Energy moves between dominos, so the bound is the whole row's: the fastest start (at most
+    # 1 m/s + 2 rad/s × 0.5 m at the centroid) plus a fall of a domino's height (1 m).
+    result = nmm3d.load(EXAMPLES / "dominos.toml", ["analysis.duration=1.0"]).run(out=tmp_path / "d")
+    h = result.history
+    v0 = 1.0 + 2.0 * 0.5
+    bound = (v0**2 + 2 * 9.81 * 1.0) ** 0.5
+    fastest = max(float((sum(h[f"d{k}.velocity.{a}"] ** 2 for a in "xyz") ** 0.5).max()) for k in range(8))
+    assert 0.5 < fastest <= bound, (fastest, bound)
