@@ -47,7 +47,7 @@ def walked(tmp_path_factory) -> tuple[Path, dict[str, str]]:
 def test_the_page_has_every_step():
     text = " ".join(commands())
     for step in ("nmm3d check", "nmm3d blocks", "nmm3d run", "nmm3d plot", "picture.py", "nmm3d study",
-                 "two_wedges.toml"):
+                 "two_wedges.toml", "nmm3d keyblocks"):
         assert step in text, step
 
 
@@ -79,3 +79,19 @@ def test_key_blocks_get_their_own_critical_angles(walked):
     for block, exact in ((1, 31.81), (4, 25.15)):
         lo, hi = found[block]["bracket"]
         assert hi - lo <= 1.0 and lo - 0.5 < exact < hi + 0.5, (block, found[block])
+
+
+def test_block_theory_agrees_with_the_per_block_study(walked):
+    """The key-block module's critical angles (limit equilibrium) lie in the NMM study's brackets,
+    widened by the study's 1° tolerance."""
+    here, printed = walked
+    study = {b["id"]: b for b in json.loads((here / "out" / "key_blocks" / "study.json").read_text())["blocks"]}
+    with open(here / "out" / "key_blocks_le" / "keyblocks.csv", newline="") as f:
+        rows = {int(r["id"]): r for r in csv.DictReader(f)}
+    shown = next(v for k, v in printed.items() if "nmm3d keyblocks" in k)
+    assert "2 key blocks" in shown
+    for block in (1, 4):
+        lo, hi = study[block]["bracket"]
+        critical = float(rows[block]["critical_friction_angle"])
+        assert rows[block]["mode"] == "sliding_two_planes" and lo - 1.0 < critical < hi + 1.0
+        assert f"{critical:.3f}" in shown

@@ -8,12 +8,14 @@
 """
 
 from nmm3d._core import InternalError, NmmError, OutputError, RunError, ScenarioError, __version__
+from nmm3d.key_blocks import KeyBlocks, keyblocks
 from nmm3d.result import Result
 from nmm3d.scenario import Scenario, load
 from nmm3d.study import Study, StudyResult
 
 __all__ = [
     "InternalError",
+    "KeyBlocks",
     "NmmError",
     "OutputError",
     "Result",
@@ -23,5 +25,6 @@ __all__ = [
     "Study",
     "StudyResult",
     "__version__",
+    "keyblocks",
     "load",
 ]

@@ -37,6 +37,11 @@ def _parser() -> argparse.ArgumentParser:
     blocks.add_argument("file", type=Path)
     blocks.add_argument("--out", type=_directory, required=True, help="output directory")
     blocks.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE")
+    keyblocks = sub.add_parser("keyblocks", help="block theory on the cut rock mass: removable blocks, failure "
+                               "mode, factor of safety and critical friction angle of each block with a free face")
+    keyblocks.add_argument("file", type=Path)
+    keyblocks.add_argument("--out", type=_directory, required=True, help="output directory")
+    keyblocks.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE")
     study = sub.add_parser("study", help="run the scenario's [study] (critical friction, strength reduction, sweep, "
                            "Monte-Carlo) on Dask")
     study.add_argument("file", type=Path)
@@ -152,6 +157,32 @@ def _blocks(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _keyblocks(args: argparse.Namespace) -> int:
+    from nmm3d.key_blocks import keyblocks
+
+    result = keyblocks(load(args.file, args.overrides))
+    try:
+        written = result.write(args.out)
+    except OSError as e:
+        print(f"nmm3d: cannot write the key-block outputs to {args.out}: {e}", file=sys.stderr)
+        return EXIT_FAILED
+    key = result.key_blocks()
+    print(f"{len(result.blocks)} blocks with a free face, {sum(b.removable for b in result.blocks)} removable, "
+          f"{len(key)} key blocks (fall or slide under their weight)")
+    if key:
+        print(f"{'id':>5} {'JP':>6} {'mode':<19} {'FS':>7} {'phi_c [deg]':>11} {'volume [m3]':>11} "
+              f"{'trend/plunge [deg]':>18}  sliding on")
+    for b in key:
+        m = b.mode
+        trend, plunge = b.trend_plunge()
+        warn = "  (weight line leaves its base: may topple)" if b.rotation_warning else ""
+        print(f"{b.id:>5} {b.joint_pyramid:>6} {m.mode:<19} {m.factor_of_safety:>7.3f} "
+              f"{m.critical_friction_angle:>11.3f} {b.volume:>11.4g} {trend:>8.1f}/{plunge:<9.1f} "
+              f"{' + '.join(b.planes[k].label for k in m.planes)}{warn}")
+    print("wrote " + ", ".join(str(p) for p in written))
+    return EXIT_OK
+
+
 def _study(args: argparse.Namespace) -> int:
     from nmm3d.study.driver import Study, describe
 
@@ -187,7 +218,8 @@ def _plot(args: argparse.Namespace) -> int:
 def main(argv: list[str] | None = None) -> int:
     """Entry point; returns the exit status."""
     args = _parser().parse_args(argv)
-    handlers = {"run": _run, "check": _check, "blocks": _blocks, "study": _study, "plot": _plot}
+    handlers = {"run": _run, "check": _check, "blocks": _blocks, "keyblocks": _keyblocks, "study": _study,
+                "plot": _plot}
     try:
         return handlers[args.command](args)
     except _core.ScenarioError as e:

@@ -63,14 +63,8 @@ def orientations(scenario: dict[str, Any]) -> list[tuple[str, float, float]]:
     return out
 
 
-def plot_stereonet(scenario: dict[str, Any], path: str | Path, title: str = "") -> Path:
-    """Draw great circles and poles of the scenario's joints to ``path`` (PNG)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(5.5, 5.5))
+def draw_joints(ax, scenario: dict[str, Any], title: str = "") -> None:
+    """Primitive circle, great circles and poles of the scenario's joints on ``ax``."""
     t = np.linspace(0, 2 * np.pi, 361)
     ax.plot(np.cos(t), np.sin(t), color="black", lw=1)
     ax.plot([0], [0], "+", color="black")
@@ -87,6 +81,17 @@ def plot_stereonet(scenario: dict[str, Any], path: str | Path, title: str = "") 
     ax.set_ylim(-1.15, 1.15)
     ax.axis("off")
     ax.set_title(title or "lower hemisphere, equal area", fontsize=10)
+
+
+def plot_stereonet(scenario: dict[str, Any], path: str | Path, title: str = "") -> Path:
+    """Draw great circles and poles of the scenario's joints to ``path`` (PNG)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(5.5, 5.5))
+    draw_joints(ax, scenario, title)
     if orientations(scenario):
         ax.legend(loc="lower left", fontsize=7, bbox_to_anchor=(-0.05, -0.08))
     fig.savefig(path, dpi=120, bbox_inches="tight")

@@ -83,6 +83,18 @@ fn cover_report_json(py: Python<'_>, text: String, label: String) -> PyResult<St
     Ok(v.to_string())
 }
 
+/// The surfaces of the cut blocks (faces, their joints and touching areas) as JSON, for the
+/// key-block analysis.
+#[pyfunction]
+fn block_surfaces_json(py: Python<'_>, text: String, label: String) -> PyResult<String> {
+    let v = py.detach(|| {
+        errors::guard("reading the block surfaces", || {
+            input::from_json_str(&text, &label, &[]).map(|s| nmm3d_core::blocks::surfaces(&s))
+        })
+    })?;
+    Ok(v.to_string())
+}
+
 /// The canonical scenario as JSON text (the values were validated, so it serialises).
 fn canonical(s: &scenario::Scenario) -> String {
     serde_json::to_string(s).expect("a validated scenario serialises")
@@ -96,6 +108,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run_json, m)?)?;
     m.add_function(wrap_pyfunction!(blocks_json, m)?)?;
     m.add_function(wrap_pyfunction!(cover_report_json, m)?)?;
+    m.add_function(wrap_pyfunction!(block_surfaces_json, m)?)?;
     m.add("NmmError", m.py().get_type::<errors::NmmError>())?;
     m.add("ScenarioError", m.py().get_type::<errors::ScenarioError>())?;
     m.add("RunError", m.py().get_type::<errors::RunError>())?;

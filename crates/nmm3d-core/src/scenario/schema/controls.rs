@@ -338,3 +338,37 @@ impl Default for CuttingSpec {
         Self { sliver_ratio: 1e-4 }
     }
 }
+
+/// `[keyblocks]`: how the key-block analysis (`nmm3d keyblocks`) reads the model (addition to v1).
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct KeyBlocksSpec {
+    /// Sides of the model's bounding box that are free surfaces; block faces on the other sides
+    /// count as rock continuing beyond. Absent: `["+z"]` (the top is the ground) when the
+    /// scenario has no excavation, none when it has one (a tunnel model is rock all round).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub free_sides: Option<Vec<BoxSide>>,
+}
+
+/// A side of an axis-aligned box.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum BoxSide {
+    /// x = min.
+    #[serde(rename = "-x")]
+    MinX,
+    /// x = max.
+    #[serde(rename = "+x")]
+    MaxX,
+    /// y = min.
+    #[serde(rename = "-y")]
+    MinY,
+    /// y = max.
+    #[serde(rename = "+y")]
+    MaxY,
+    /// z = min (the bottom).
+    #[serde(rename = "-z")]
+    MinZ,
+    /// z = max (the top).
+    #[serde(rename = "+z")]
+    MaxZ,
+}

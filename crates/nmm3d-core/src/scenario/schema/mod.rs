@@ -32,6 +32,9 @@ pub struct Scenario {
     /// Block cutting controls (addition to v1).
     #[serde(default)]
     pub cutting: CuttingSpec,
+    /// Key-block analysis controls (addition to v1).
+    #[serde(default)]
+    pub keyblocks: KeyBlocksSpec,
     /// Materials (unique names).
     #[serde(default)]
     pub material: Vec<Material>,

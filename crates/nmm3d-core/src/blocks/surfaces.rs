@@ -1,0 +1,206 @@
+//! The surfaces of the cut blocks, for limit-equilibrium (key-block) analysis: every boundary
+//! face of every block with its origin (joint, excavation, body face), its joint strength and
+//! the area of it that another block's face touches.
+
+use nmm3d_geom::{polygon, Aabb, Face, Vec3};
+use serde_json::{json, Value};
+
+use crate::model::{tags, Block, Geometry};
+use crate::scenario::Scenario;
+
+/// Two faces touch when their planes are parallel to within this angle [rad] …
+const PARALLEL_ANGLE: f64 = 1e-4;
+/// … and coincide to within this fraction of the model's diagonal (the planes of bodies given
+/// separately by the user, e.g. a layer on its bedrock, agree only to their digits).
+const COINCIDENT_RATIO: f64 = 1e-6;
+
+/// One boundary face, ready to serialise.
+struct Surface<'a> {
+    block: usize,
+    face: &'a Face,
+    normal: Vec3,
+    area: f64,
+    aabb: Aabb,
+}
+
+/// Blocks, faces and features of the scenario's rock mass as JSON (see `python/nmm3d/block_theory.py`).
+pub fn surfaces(scenario: &Scenario) -> Value {
+    let g = Geometry::from_scenario(scenario);
+    if g.blocks.is_empty() {
+        return json!({ "blocks": [], "faces": [], "features": [], "bounds": Value::Null });
+    }
+    let bounds = g.aabb();
+    let all = boundary_faces(&g.blocks);
+    let faces: Vec<Value> = all
+        .iter()
+        .map(|s| {
+            let (touching, partner) = touched_area(s, &all, bounds.diagonal());
+            let joint = joint_of(scenario, &g, s, partner);
+            let (kind, index) = origin(s.face);
+            json!({
+                "block": s.block, "kind": kind, "index": index, "joint": joint, "partner": partner,
+                "normal": [s.normal.x, s.normal.y, s.normal.z], "area": s.area, "touching": touching,
+                "vertices": s.face.vertices.iter().map(|v| [v.x, v.y, v.z]).collect::<Vec<_>>(),
+            })
+        })
+        .collect();
+    let blocks: Vec<Value> = g
+        .blocks
+        .iter()
+        .map(|b| {
+            json!({
+                "body": scenario.body[b.body].name, "fixed": b.fixed, "volume": b.volume,
+                "density": scenario.material[b.material].density,
+                "centroid": [b.centroid.x, b.centroid.y, b.centroid.z],
+            })
+        })
+        .collect();
+    let features: Vec<Value> = g
+        .features
+        .iter()
+        .map(|f| json!({ "normal": [f.normal.x, f.normal.y, f.normal.z], "set": f.spacing.is_some() }))
+        .collect();
+    json!({
+        "blocks": blocks, "faces": faces, "features": features,
+        "bounds": { "min": [bounds.min.x, bounds.min.y, bounds.min.z], "max": [bounds.max.x, bounds.max.y, bounds.max.z] },
+    })
+}
+
+/// The faces on the surface of each block (not the glue between its convex pieces).
+fn boundary_faces(blocks: &[Block]) -> Vec<Surface<'_>> {
+    let mut out = Vec::new();
+    for (k, b) in blocks.iter().enumerate() {
+        for f in b.pieces.iter().flat_map(|p| &p.faces).filter(|f| tags::is_boundary(f.tag)) {
+            let av = f.area_vector();
+            let area = av.norm();
+            if area > 0.0 {
+                let aabb = Aabb::from_points(&f.vertices).expect("a face has vertices");
+                out.push(Surface { block: k, face: f, normal: av / area, area, aabb });
+            }
+        }
+    }
+    out
+}
+
+/// Area of `s` touched by faces of other blocks lying on its plane and facing it, and the block
+/// touching most of it.
+fn touched_area(s: &Surface, all: &[Surface], diagonal: f64) -> (f64, Option<usize>) {
+    let tol = COINCIDENT_RATIO * diagonal;
+    let offset = s.normal.dot(&s.face.vertices[0]);
+    let grown = Aabb { min: s.aabb.min.add_scalar(-tol), max: s.aabb.max.add_scalar(tol) };
+    let mut by_block: Vec<(usize, f64)> = Vec::new();
+    for o in all.iter().filter(|o| o.block != s.block && grown.overlaps(&o.aabb)) {
+        if s.normal.dot(&o.normal) > -PARALLEL_ANGLE.cos() || (o.normal.dot(&o.face.vertices[0]) + offset).abs() > tol {
+            continue;
+        }
+        // The other face, seen from this one's side: its vertices reversed, projected on this plane.
+        let other: Vec<Vec3> =
+            o.face.vertices.iter().rev().map(|v| v - s.normal * (s.normal.dot(v) - offset)).collect();
+        let common = polygon::intersect_convex(&s.face.vertices, &other, &s.normal, tol);
+        let a = if common.len() < 3 { 0.0 } else { polygon::area_vector(&common).norm() };
+        if a > 0.0 {
+            match by_block.iter_mut().find(|(b, _)| *b == o.block) {
+                Some(e) => e.1 += a,
+                None => by_block.push((o.block, a)),
+            }
+        }
+    }
+    let total = by_block.iter().map(|(_, a)| a).sum::<f64>().min(s.area);
+    (total, by_block.iter().max_by(|x, y| x.1.total_cmp(&y.1)).map(|(b, _)| *b))
+}
+
+/// Where a face came from: ("joint", feature), ("excavation", excavation) or ("body", face).
+fn origin(f: &Face) -> (&'static str, usize) {
+    if let Some(k) = tags::joint_feature(f.tag) {
+        ("joint", k)
+    } else if f.tag.0 >= tags::EXCAVATION_BASE {
+        ("excavation", ((f.tag.0 - tags::EXCAVATION_BASE) / 1024) as usize)
+    } else {
+        ("body", f.tag.0 as usize)
+    }
+}
+
+/// The joint (name) whose strength acts on a face: the joint feature's, else the interface
+/// between the two bodies that touch there, else the body's own (as contact detection takes it).
+fn joint_of(s: &Scenario, g: &Geometry, f: &Surface, partner: Option<usize>) -> Option<String> {
+    let body = &s.body[g.blocks[f.block].body];
+    if let Some(j) = tags::joint_feature(f.face.tag).and_then(|k| g.features[k].joint) {
+        return Some(s.joint[j].name.clone());
+    }
+    let other = partner.map(|p| &s.body[g.blocks[p].body]);
+    let interface = other.and_then(|o| {
+        s.interface.iter().find(|i| {
+            (i.bodies[0] == body.name && i.bodies[1] == o.name) || (i.bodies[0] == o.name && i.bodies[1] == body.name)
+        })
+    });
+    interface.map(|i| i.joint.clone()).or(body.joint.clone()).or(other.and_then(|o| o.joint.clone()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::input::from_toml_str;
+
+    /// A 2 m slab with a 1 m cube on it, shifted so that `overhang` [m] of the cube's base hangs
+    /// over the slab's east edge.
+    fn cube_on_slab(overhang: f64) -> Value {
+        let x0 = 1.0 + overhang;
+        let text = format!(
+            r#"
+            [[material]]
+            name = "rock"
+            density = 2500.0
+            young = 1e9
+            poisson = 0.2
+            [[joint]]
+            name = "slab joint"
+            friction_angle = 25.0
+            [[joint]]
+            name = "cube joint"
+            friction_angle = 35.0
+            [[body]]
+            name = "slab"
+            material = "rock"
+            fixed = true
+            joint = "slab joint"
+            shape = {{ box = {{ min = [0.0, 0.0, -1.0], max = [2.0, 2.0, 0.0] }} }}
+            [[body]]
+            name = "cube"
+            material = "rock"
+            joint = "cube joint"
+            shape = {{ box = {{ min = [{x0}, 0.5, 0.0], max = [{x1}, 1.5, 1.0] }} }}
+            "#,
+            x1 = x0 + 1.0
+        );
+        surfaces(&from_toml_str(&text, "test", &[]).unwrap())
+    }
+
+    fn base_of_cube(v: &Value) -> &Value {
+        let faces = v["faces"].as_array().unwrap();
+        faces.iter().find(|f| f["block"] == 1 && f["normal"][2].as_f64().unwrap() < -0.99).unwrap()
+    }
+
+    #[test]
+    fn a_cube_on_a_slab_touches_it_over_its_whole_base() {
+        let v = cube_on_slab(0.0);
+        let base = base_of_cube(&v);
+        assert!((base["touching"].as_f64().unwrap() - 1.0).abs() < 1e-12);
+        assert_eq!(base["partner"], 0);
+        // The body's own joint, as contact detection takes it (A's body joint first).
+        assert_eq!(base["joint"], "cube joint");
+        // Its sides and top touch nothing.
+        let faces = v["faces"].as_array().unwrap();
+        let free = faces.iter().filter(|f| f["block"] == 1 && f["touching"].as_f64().unwrap() == 0.0).count();
+        assert_eq!(free, 5);
+    }
+
+    #[test]
+    fn an_overhanging_cube_touches_only_what_lies_on_the_slab() {
+        let base = base_of_cube(&cube_on_slab(0.75)).clone();
+        // x from 1.75 to 2.75 over a slab ending at 2: a quarter of the base.
+        assert!((base["touching"].as_f64().unwrap() - 0.25).abs() < 1e-12, "{base}");
+        let none = base_of_cube(&cube_on_slab(1.5)).clone();
+        assert_eq!(none["touching"].as_f64().unwrap(), 0.0);
+        assert_eq!(none["partner"], Value::Null);
+    }
+}
