@@ -317,13 +317,31 @@ def tower(rep: Report) -> None:
                 f"{r.summary['max_penetration']:.1e}", mark(ok)]])
 
 
+def newmark(rep: Report) -> None:
+    g, n = 9.81, 0.2
+    rows = []
+    for a, t0 in ((0.3, 0.3), (0.5, 0.2), (1.0, 0.1), (2.0, 0.05)):
+        stop = t0 * a / n
+        r = rep.run("newmark_sliding_block.toml", f"seismic.pulse.0.acceleration=[{a * g}, 0.0, 0.0]",
+                    f"seismic.pulse.0.duration={t0}", f"analysis.duration={stop + 0.1:.3f}")
+        exact = analytic.newmark_pulse(a * g * t0, n, a, g)
+        slip = -r.history["block.displacement.x"][-1]
+        rows.append([f"{a:.1f}", f"{t0:.2f}", f"{a * g * t0:.3f}", f"{exact:.5f}", f"{slip:.5f}",
+                     f"{100 * (slip - exact) / exact:+.2f}", mark(abs(slip - exact) <= 0.02 * exact)])
+    rep.table("(s) Newmark's sliding block under a rectangular base pulse",
+              "`examples/newmark_sliding_block.toml`: a block on a level joint, yield acceleration N g (N = tan φ = 0.2), "
+              "on a base shaken by one pulse A g for t₀ (`[seismic]`, the run in the base's frame): the slip on the base "
+              "against u_m = V²/(2gN)(1 − N/A), V = A g t₀ (Newmark 1965). Tolerance 2 %.",
+              ["A", "t₀ [s]", "V [m/s]", "u_m exact [m]", "u_m [m]", "difference [%]", "result"], rows)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--only", nargs="*", help="run only these sections (names below)")
     args = ap.parse_args()
     sections = {"free_fall": free_fall, "spin": spin, "bars": bars, "cantilever": cantilever, "plate": plate,
                 "incline": incline, "roof_wedge": roof_wedge, "impact": impact, "tetrahedral_wedge": tetrahedral_wedge,
-                "tower": tower}
+                "tower": tower, "newmark": newmark}
     t0 = time.perf_counter()
     with tempfile.TemporaryDirectory() as tmp:
         rep = Report(Path(tmp))
@@ -345,7 +363,9 @@ def main() -> None:
             "Closed forms are in `python/nmm3d/analytic.py`; independent references (3-D solutions computed outside nmm3d) are quoted beside each table.",
             "Contact cases checked by tests only: the sliding/toppling chart (`tests/test_toppling.py`) and the "
             "dominos run (`verification_dominos.rs`, timed in `docs/performance-contact.md`) and the dougong collapse "
-            "(`verification_dougong.rs`).", ""]
+            "(`verification_dougong.rs`). Block theory (`nmm3d keyblocks`) against Goodman & Shi's joint pyramids, the "
+            "vector method and the NMM critical-friction studies: `tests/test_keyblocks.py` and "
+            "[keyblocks-results.md](keyblocks-results.md).", ""]
     (ROOT / "docs" / "verification.md").write_text("\n".join(head + rep.lines))
     print("wrote docs/verification.md")
 

@@ -49,3 +49,46 @@ def incline_sliding(slope_deg: float, friction_deg: float, g: float, t: float) -
     (thesis eq. 4-1)."""
     a, f = math.radians(slope_deg), math.radians(friction_deg)
     return max(0.0, 0.5 * g * (math.sin(a) - math.tan(f) * math.cos(a)) * t * t)
+
+
+def newmark_pulse(velocity: float, yield_coefficient: float, pulse_coefficient: float, g: float) -> float:
+    """Slip of a rigid block on a level base shaken by one rectangular acceleration pulse A g of
+    velocity V = A g t₀, when the yield acceleration is N g < A g:
+    u_m = V² / (2 g N) · (1 − N / A) (Newmark 1965, Géotechnique 15(2), eq. 8); 0 if N ≥ A."""
+    n, a = yield_coefficient, pulse_coefficient
+    return 0.0 if n >= a else velocity**2 / (2.0 * g * n) * (1.0 - n / a)
+
+
+def newmark_incline(slope_deg: float, friction_deg: float, g: float, base_acceleration, duration: float,
+                    dt: float = 1e-5) -> float:
+    """Downslope slip of a rigid block on a plane dipping ``slope_deg`` towards +x under a
+    horizontal base acceleration a_b(t) along x, integrated in time (Newmark's method on an
+    incline: Goodman & Seed 1966; Franklin & Chang 1977). In the base's frame the block feels
+    −m a_b; the normal force is m (g cos ψ + a_b sin ψ), the downslope drive m (g sin ψ − a_b cos ψ);
+    it slides down while the drive exceeds tan φ × normal or while it moves (upslope slip is
+    taken as impossible, true for the cases used here), and stops when its speed returns to 0."""
+    psi, tan = math.radians(slope_deg), math.tan(math.radians(friction_deg))
+    s, v, t = 0.0, 0.0, 0.0
+    while t < duration:
+        ab = base_acceleration(t)
+        drive = g * math.sin(psi) - ab * math.cos(psi)
+        normal = g * math.cos(psi) + ab * math.sin(psi)
+        acc = drive - tan * normal
+        if v > 0.0 or acc > 0.0:
+            v_new = v + acc * dt
+            if v_new < 0.0:  # stops within the step
+                s += 0.5 * v * v / -acc if acc < 0 else 0.0
+                v = 0.0
+            else:
+                s += 0.5 * (v + v_new) * dt
+                v = v_new
+        t += dt
+    return s
+
+
+def pseudo_static_planar_fs(slope_deg: float, friction_deg: float, kh: float) -> float:
+    """Factor of safety of a block on a plane of dip ψ under its weight and a horizontal
+    pseudo-static force kh W pointing down the dip direction (out of the slope):
+    FS = (cos ψ − kh sin ψ) tan φ / (sin ψ + kh cos ψ) (Hoek & Bray 1981, ch. 7)."""
+    psi, tan = math.radians(slope_deg), math.tan(math.radians(friction_deg))
+    return (math.cos(psi) - kh * math.sin(psi)) * tan / (math.sin(psi) + kh * math.cos(psi))

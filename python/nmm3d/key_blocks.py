@@ -8,8 +8,8 @@ boundary — a side of its bounding box where the rock mass goes on (every side 
 excavation). Every other face is *free* (excavation faces, the ground and slope surface). Each block with a free
 face that is not fixed is analysed by block theory (:mod:`nmm3d.block_theory`) under its weight,
 with the friction angle and cohesion of the joint on each plane (the joint that contact would
-use). Not included: in-situ stress, water, support (the key-block factor of safety of a
-Goodman–Shi analysis without them).
+use), and the pseudo-static seismic force of ``[seismic] coefficient``. Not included: in-situ
+stress, water, support.
 """
 
 from __future__ import annotations
@@ -140,7 +140,9 @@ def keyblocks(scenario: Any, out: str | os.PathLike[str] | None = None, override
 def _analyse(d: dict[str, Any], surfaces: dict[str, Any]) -> list[KeyBlock]:
     if not surfaces["blocks"]:
         return []
-    gravity = np.asarray(d["analysis"]["gravity"], float)
+    g = np.asarray(d["analysis"]["gravity"], float)
+    # The pseudo-static seismic force k m |g| joins the weight (Hoek & Bray; Swedge, Unwedge).
+    load = g + np.asarray(d.get("seismic", {}).get("coefficient", [0.0, 0.0, 0.0]), float) * np.linalg.norm(g)
     joints = {j["name"]: j for j in d.get("joint", [])}
     labels = [f"set {k + 1}" for k, _ in enumerate(d.get("joint_set", []))]
     labels += [f"joint {k + 1}" for k, _ in enumerate(d.get("joint_plane", []))]
@@ -159,7 +161,7 @@ def _analyse(d: dict[str, Any], surfaces: dict[str, Any]) -> list[KeyBlock]:
         if b["fixed"] or free <= TOUCH_FRACTION * sum(f["area"] for f in faces):
             continue
         labelled = [dict(f, label=_label(f, labels, names)) for f in held]
-        out.append(_key_block(k, b, labelled, free, gravity, joints, surfaces["features"]))
+        out.append(_key_block(k, b, labelled, free, (g, load), joints, surfaces["features"]))
     return out
 
 
@@ -171,10 +173,13 @@ def free_sides(d: dict[str, Any]) -> list[str]:
     return [] if d.get("excavation") else ["+z"]
 
 
-def _key_block(k, b, held, free, gravity, joints, features) -> KeyBlock:
+def _key_block(k, b, held, free, accelerations, joints, features) -> KeyBlock:
+    """``accelerations``: gravity, and the acceleration whose body force acts (gravity and the
+    pseudo-static seismic one)."""
+    g, load = accelerations
     planes, polygons = _planes(held, joints)
-    weight = b["density"] * b["volume"] * float(np.linalg.norm(gravity))
-    force = b["density"] * b["volume"] * gravity
+    weight = b["density"] * b["volume"] * float(np.linalg.norm(g))
+    force = b["density"] * b["volume"] * load
     mode = failure_mode(planes, force)
     centroid = np.asarray(b["centroid"], float)
     sliding = [p for i in mode.planes for p in polygons[i]]

@@ -37,8 +37,10 @@ pub struct System {
     pub assembler: Assembler,
     /// Assembled consistent mass (values on the pattern).
     pub mass_values: Vec<f64>,
-    /// External dead load per cover [N].
+    /// External dead load per cover [N] (gravity with the pseudo-static seismic coefficient).
     pub external: Vec<Vec3>,
+    /// Mass per cover, ρ ∫ w dV [kg]: the load of a unit uniform acceleration (a base motion).
+    pub cover_mass: Vec<f64>,
     /// Penalty points.
     pub constraints: Vec<PointConstraint>,
     /// Penalty stiffness [N/m].
@@ -80,6 +82,7 @@ impl System {
         };
         let mut sys = Self {
             external: vec![Vec3::zeros(); covers.covers.len()],
+            cover_mass: vec![0.0; covers.covers.len()],
             constraints: Vec::new(),
             half_size: 0.5 * ext.max(),
             scenario,
@@ -136,13 +139,23 @@ impl System {
         self.covers.locate(b, x, tol).map(|e| (b, e))
     }
 
+    /// The body force of a base acceleration `a` [m/s²]: −m a per cover [N] (the run is in the
+    /// base's frame).
+    pub fn base_force(&self, a: [f64; 3]) -> Vec<Vec3> {
+        let a = Vec3::from(a);
+        self.cover_mass.iter().map(|m| -m * a).collect()
+    }
+
     fn add_loads(&mut self, label: &str) -> Result<()> {
         let g = Vec3::from(self.scenario.analysis.gravity);
+        // Pseudo-static seismic coefficients: an extra body force k m |g|.
+        let g = g + Vec3::from(self.scenario.seismic.coefficient) * g.norm();
         for (e, me) in self.covers.elements.iter().enumerate() {
             let rho = self.geometry.materials[self.geometry.blocks[me.block].material].density;
             let k = &self.kernels[self.kernel_of[e]];
             for (a, &c) in me.covers.iter().enumerate() {
                 self.external[c] += rho * k.integral_w[a] * g;
+                self.cover_mass[c] += rho * k.integral_w[a];
             }
         }
         for (i, pl) in self.scenario.point_load.clone().iter().enumerate() {

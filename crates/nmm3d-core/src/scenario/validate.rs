@@ -74,10 +74,33 @@ pub fn problems(s: &Scenario) -> Vec<Problem> {
     bodies(&mut c, s);
     cutting(&mut c, s);
     loads(&mut c, s);
+    seismic(&mut c, s);
     monitors(&mut c, s);
     expectations(&mut c, s);
     finite(&mut c, s);
     c.problems
+}
+
+/// Pulses and sines last a positive time; a series has increasing times and one value each.
+fn seismic(c: &mut Checker, s: &Scenario) {
+    let q = &s.seismic;
+    for (i, p) in q.pulse.iter().enumerate() {
+        c.positive(&format!("seismic.pulse[{i}].duration"), p.duration);
+    }
+    for (i, w) in q.sine.iter().enumerate() {
+        c.positive(&format!("seismic.sine[{i}].frequency"), w.frequency);
+        c.positive(&format!("seismic.sine[{i}].cycles"), w.cycles);
+    }
+    if let Some(series) = &q.series {
+        if series.time.len() < 2 || series.time.len() != series.values.len() {
+            c.fail("seismic.series", "needs at least two samples and one value [x, y, z] per time");
+        } else if series.time.windows(2).any(|w| !(w[1] > w[0])) {
+            c.fail("seismic.series.time", "must increase strictly");
+        }
+    }
+    if q.moves() && s.analysis.kind == AnalysisKind::Static {
+        c.fail("seismic", "a moving base needs a dynamic analysis (`analysis.kind = \"dynamic\"`)");
+    }
 }
 
 /// Every number of the scenario is finite: NaN and ±inf anywhere (an origin, a velocity, a

@@ -149,7 +149,9 @@ impl Stepper {
 
     /// Initial acceleration M a₀ = F − F_int(x₀), needed when β ≠ ½.
     pub fn initialize(&mut self, sys: &System, state: &mut State) -> Result<()> {
-        let residual = self.assemble(sys, state);
+        let mut residual = self.assemble(sys, state);
+        let base = self.shaking(sys).then(|| sys.base_force(sys.scenario.seismic.acceleration_after(state.time)));
+        add_to(&mut residual, base.as_deref());
         self.force_scale = scale(sys, &residual).max(scale(sys, &sys.external));
         if sys.scenario.analysis.kind == AnalysisKind::Dynamic && self.newmark.uses_acceleration() && sys.n_eq() > 0 {
             self.pattern.combine(sys, (0.0, &self.tangent), (1.0, &sys.mass_values), &mut self.values);
@@ -160,6 +162,12 @@ impl Stepper {
             scatter_into(sys, &rhs, &mut state.a);
         }
         Ok(())
+    }
+
+    /// Whether the base shakes now (not while the initial equilibrium settles: the shaking
+    /// starts after it).
+    fn shaking(&self, sys: &System) -> bool {
+        !self.locked && sys.scenario.seismic.moves()
     }
 
     /// Unbalanced force ratio at the current state (static equilibrium measure).
@@ -182,6 +190,9 @@ impl Stepper {
         let residual = self.assemble(sys, state);
         // The unbalanced force at the start, contacts included: M a₀ of a dynamic step.
         let mut start_force = residual.clone();
+        let seismic = &sys.scenario.seismic;
+        let base_start = self.shaking(sys).then(|| sys.base_force(seismic.acceleration_after(state.time)));
+        add_to(&mut start_force, base_start.as_deref());
         if let Some(c) = self.contacts.as_ref() {
             c.add_start_forces(sys, &mut start_force);
         }
@@ -191,6 +202,12 @@ impl Stepper {
         self.times.assembly += t.elapsed().as_secs_f64();
         let analysis = &sys.scenario.analysis;
         let mut dt = state.dt.min(dt_cap);
+        if self.shaking(sys) {
+            // No step straddles a jump of the base acceleration; the one that starts at a jump
+            // starts from the acceleration after it.
+            dt = seismic.next_jump(state.time).map_or(dt, |b| dt.min(b - state.time));
+            jump_acceleration(sys, state);
+        }
         let (mut cuts, mut trials) = (0, 0);
         loop {
             let k = if self.inertia {
@@ -203,7 +220,18 @@ impl Stepper {
             if let (Some(c), Some(saved), true) = (self.contacts.as_mut(), start_records.as_ref(), trials > 1) {
                 c.records = saved.clone();
             }
-            let trial = Trial { residual: &residual, mv: &mv, ma: &ma, k };
+            // The loads at the end of the step (implicit): a moving base's force just before
+            // t + Δt (a pulse ending there still acts over the step).
+            let base_end = self.shaking(sys).then(|| sys.base_force(seismic.acceleration_before(state.time + dt)));
+            let moved;
+            let trial_residual = match &base_end {
+                Some(f) => {
+                    moved = residual.iter().zip(f).map(|(r, f)| r + f).collect::<Vec<_>>();
+                    &moved
+                }
+                None => &residual,
+            };
+            let trial = Trial { residual: trial_residual, mv: &mv, ma: &ma, k };
             let (d, iterations, settled) = self.open_close(sys, state, &trial)?;
             let dmax = d.iter().map(|x| x.norm()).fold(0.0, f64::max);
             let ratio = dmax / (analysis.max_displacement_ratio * sys.half_size);
@@ -259,7 +287,15 @@ impl Stepper {
                     let energy = self.account(
                         sys,
                         state,
-                        &Increment { d: &d, residual: &residual, m_a0, kinetic0, friction, springs },
+                        &Increment {
+                            d: &d,
+                            residual: &residual,
+                            base: (base_start.as_deref(), base_end.as_deref()),
+                            m_a0,
+                            kinetic0,
+                            friction,
+                            springs,
+                        },
                     );
                     return Ok(StepReport {
                         dt,
@@ -318,7 +354,12 @@ impl Stepper {
             return Energy::default();
         }
         let dot = |f: &[Vec3]| -> f64 { s.d.iter().zip(f).map(|(d, f)| d.dot(f)).sum() };
-        let external_work = dot(&sys.external);
+        // A moving base's force changes over the step: its work by the trapezoidal rule.
+        let base_work = match s.base {
+            (Some(f0), Some(f1)) => 0.5 * (dot(f0) + dot(f1)),
+            _ => 0.0,
+        };
+        let external_work = dot(&sys.external) + base_work;
         let f_int: Vec<Vec3> = sys.external.iter().zip(s.residual).map(|(f, r)| f - r).collect();
         let x = equation_vector(sys, s.d);
         let elastic = dot(&f_int) + 0.5 * sys.assembler.pattern.quadratic_form(&self.tangent, &x);
@@ -435,10 +476,35 @@ pub(super) struct Trial<'a> {
     k: StepCoefficients,
 }
 
+/// Where the base acceleration jumps at the state's time, the blocks' acceleration (in the
+/// base's frame) jumps by minus as much: M⁻¹(−m Δa) = −Δa on every movable cover, since the
+/// cover weights sum to one.
+fn jump_acceleration(sys: &System, state: &mut State) {
+    let q = &sys.scenario.seismic;
+    let (before, after) = (q.acceleration_before(state.time), q.acceleration_after(state.time));
+    let jump = Vec3::from(after) - Vec3::from(before);
+    if jump != Vec3::zeros() {
+        for (c, a) in state.a.iter_mut().enumerate() {
+            if !sys.geometry.blocks[sys.covers.covers[c].block].fixed {
+                *a -= jump;
+            }
+        }
+    }
+}
+
+/// `into += add`, when there is something to add.
+fn add_to(into: &mut [Vec3], add: Option<&[Vec3]>) {
+    if let Some(f) = add {
+        into.iter_mut().zip(f).for_each(|(x, f)| *x += f);
+    }
+}
+
 /// What an accepted step's energy accounts need besides the state.
 struct Increment<'a> {
     d: &'a [Vec3],
     residual: &'a [Vec3],
+    /// The base's force at the start and the end of the step (a moving base only).
+    base: (Option<&'a [Vec3]>, Option<&'a [Vec3]>),
     m_a0: &'a [Vec3],
     kinetic0: f64,
     friction: f64,

@@ -71,6 +71,9 @@ pub struct Scenario {
     /// Initial stress.
     #[serde(default)]
     pub in_situ_stress: Option<InSituStress>,
+    /// Earthquake loading: pseudo-static coefficients and base motion (addition to v1).
+    #[serde(default)]
+    pub seismic: Seismic,
     /// Monitored quantities.
     #[serde(default)]
     pub monitor: Vec<Monitor>,
