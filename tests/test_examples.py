@@ -42,6 +42,7 @@ CASES = {
     "two_wedges.toml": ["analysis.duration=0.05"],
     "goodman_tunnel.toml": ["analysis.duration=0.06"],
     "newmark_sliding_block.toml": [],
+    "incline_water.toml": [],
 }
 
 
@@ -96,7 +97,8 @@ def test_full_size_examples_meet_their_expectations(results):
 def test_examples_with_a_closed_form_state_it():
     for name in ("free_fall.toml", "bar_patch.toml", "hanging_bar.toml", "cantilever.toml",
                  "cantilever_self_weight.toml", "incline.toml", "roof_wedge.toml", "drop_test.toml",
-                 "block_on_joint.toml", "tetrahedral_wedge.toml", "newmark_sliding_block.toml"):
+                 "block_on_joint.toml", "tetrahedral_wedge.toml", "newmark_sliding_block.toml",
+                 "incline_water.toml"):
         assert nmm3d.load(EXAMPLES / name).to_dict().get("expect"), name
 
 

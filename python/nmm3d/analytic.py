@@ -92,3 +92,17 @@ def pseudo_static_planar_fs(slope_deg: float, friction_deg: float, kh: float) ->
     FS = (cos ψ − kh sin ψ) tan φ / (sin ψ + kh cos ψ) (Hoek & Bray 1981, ch. 7)."""
     psi, tan = math.radians(slope_deg), math.tan(math.radians(friction_deg))
     return (math.cos(psi) - kh * math.sin(psi)) * tan / (math.sin(psi) + kh * math.cos(psi))
+
+
+def planar_fs(weight: float, slope_deg: float, friction_deg: float, cohesion_force: float = 0.0, uplift: float = 0.0,
+              crack: float = 0.0, crack_angle: float | None = None) -> float:
+    """Factor of safety of a block sliding on one plane of dip ψ with water (Hoek & Bray 1981,
+    Rock Slope Engineering, ch. 7, eq. for plane failure):
+    FS = (c A + (W cos ψ − U − V sin θ) tan φ) / (W sin ψ + V cos θ),
+    U the water's uplift on the sliding plane, V its push on the tension crack and θ the angle
+    between V and the sliding plane (θ = ψ for a vertical crack, the textbook case; 0 for a
+    crack normal to the plane)."""
+    psi, tan = math.radians(slope_deg), math.tan(math.radians(friction_deg))
+    theta = psi if crack_angle is None else math.radians(crack_angle)
+    normal = weight * math.cos(psi) - uplift - crack * math.sin(theta)
+    return (cohesion_force + normal * tan) / (weight * math.sin(psi) + crack * math.cos(theta))

@@ -167,6 +167,35 @@ def weight_line_leaves(centroid: np.ndarray, force: np.ndarray, faces: list[np.n
     return True
 
 
+def hydrostatic_force(polygon: np.ndarray, normal: np.ndarray, table: float, unit_weight: float,
+                      up: np.ndarray = np.array([0.0, 0.0, 1.0])) -> np.ndarray:
+    """Force on a block of water at pressure γ_w (table − h), h = up·x the height against
+    gravity, on its planar face ``polygon`` (vertices in order) with outward ``normal``:
+    −n γ_w ∫(table − h)⁺ dA = −n γ_w A_wet (table − h̄), h̄ the height of the wet part's
+    centroid (the pressure is linear)."""
+    up = np.asarray(up, float) / np.linalg.norm(up)
+    wet = _below(np.asarray(polygon, float), up, table)
+    if len(wet) < 3:
+        return np.zeros(3)
+    fan = [(wet[0], wet[i], wet[i + 1]) for i in range(1, len(wet) - 1)]
+    integral = sum(0.5 * float(np.linalg.norm(np.cross(b - a, c - a))) * (table - float((a + b + c) @ up) / 3)
+                   for a, b, c in fan)
+    return -np.asarray(normal, float) * unit_weight * integral
+
+
+def _below(poly: np.ndarray, up: np.ndarray, table: float) -> np.ndarray:
+    """The part of a polygon with up·x ≤ table (Sutherland–Hodgman on one plane)."""
+    h = poly @ up - table
+    out = []
+    for i in range(len(poly)):
+        j = (i + 1) % len(poly)
+        if h[i] <= 0:
+            out.append(poly[i])
+        if h[i] * h[j] < 0:
+            out.append(poly[i] + h[i] / (h[i] - h[j]) * (poly[j] - poly[i]))
+    return np.asarray(out)
+
+
 def joint_pyramid_digit(outward: np.ndarray, upper: np.ndarray) -> int:
     """Goodman & Shi's joint-pyramid digit of a block bounded by a joint plane: 0 when the block
     lies in the plane's upper half-space (the side ``upper`` points to; for a dipping plane the

@@ -8,8 +8,9 @@ boundary — a side of its bounding box where the rock mass goes on (every side 
 excavation). Every other face is *free* (excavation faces, the ground and slope surface). Each block with a free
 face that is not fixed is analysed by block theory (:mod:`nmm3d.block_theory`) under its weight,
 with the friction angle and cohesion of the joint on each plane (the joint that contact would
-use), and the pseudo-static seismic force of ``[seismic] coefficient``. Not included: in-situ
-stress, water, support.
+use), the pseudo-static seismic force of ``[seismic] coefficient`` and the water pressure below
+``[water] table`` (on the held faces, and on the free ones unless they are drained): the normal
+forces are then effective. Not included: in-situ stress, support.
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ import numpy as np
 
 from nmm3d import _core
 from nmm3d.block_theory import FALLING, ONE_PLANE, TWO_PLANES, Mode, Plane, failure_mode, joint_pyramid_digit
-from nmm3d.block_theory import weight_line_leaves
+from nmm3d.block_theory import hydrostatic_force, weight_line_leaves
 
 #: A face touched by other blocks over more than this fraction of its area is held by them;
 #: a face with more than this fraction untouched exposes a free surface.
@@ -161,7 +162,8 @@ def _analyse(d: dict[str, Any], surfaces: dict[str, Any]) -> list[KeyBlock]:
         if b["fixed"] or free <= TOUCH_FRACTION * sum(f["area"] for f in faces):
             continue
         labelled = [dict(f, label=_label(f, labels, names)) for f in held]
-        out.append(_key_block(k, b, labelled, free, (g, load), joints, surfaces["features"]))
+        water = _water_force(d, faces if _submerged(d) else held, float(np.linalg.norm(g)))
+        out.append(_key_block(k, b, labelled, free, (g, load, water), joints, surfaces["features"]))
     return out
 
 
@@ -174,18 +176,35 @@ def free_sides(d: dict[str, Any]) -> list[str]:
 
 
 def _key_block(k, b, held, free, accelerations, joints, features) -> KeyBlock:
-    """``accelerations``: gravity, and the acceleration whose body force acts (gravity and the
-    pseudo-static seismic one)."""
-    g, load = accelerations
+    """``accelerations``: gravity, the acceleration whose body force acts (gravity and the
+    pseudo-static seismic one), and the water's force on the block [N]."""
+    g, load, water = accelerations
     planes, polygons = _planes(held, joints)
     weight = b["density"] * b["volume"] * float(np.linalg.norm(g))
-    force = b["density"] * b["volume"] * load
+    force = b["density"] * b["volume"] * load + water
     mode = failure_mode(planes, force)
     centroid = np.asarray(b["centroid"], float)
     sliding = [p for i in mode.planes for p in polygons[i]]
     warn = bool(sliding) and weight_line_leaves(centroid, force, sliding)
     return KeyBlock(k, b["body"], b["volume"], weight, centroid, _pyramid(held, features), free, planes, mode,
                     warn, sliding)
+
+
+def _submerged(d: dict[str, Any]) -> bool:
+    return d.get("water", {}).get("free_faces", "submerged") == "submerged"
+
+
+def _water_force(d: dict[str, Any], faces: list[dict[str, Any]], g: float) -> np.ndarray:
+    """``g``: |gravity| [m/s²] (no gravity: no water pressure either)."""
+    """The water's push on a block: hydrostatic pressure below ``[water] table`` on ``faces``
+    (every face, or the held ones when free faces are drained)."""
+    w = d.get("water")
+    if not w or g == 0.0:
+        return np.zeros(3)
+    gravity = np.asarray(d["analysis"]["gravity"], float)
+    unit_weight, up = w.get("density", 1000.0) * g, -gravity / g
+    return sum((hydrostatic_force(np.asarray(f["vertices"], float), np.asarray(f["normal"], float), w["table"],
+                                  unit_weight, up) for f in faces), np.zeros(3))
 
 
 def _planes(held, joints) -> tuple[list[Plane], list[list[np.ndarray]]]:

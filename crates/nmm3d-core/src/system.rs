@@ -158,6 +158,16 @@ impl System {
                 self.cover_mass[c] += rho * k.integral_w[a];
             }
         }
+        if let Some(w) = self.scenario.water.clone() {
+            if w.free_faces == crate::scenario::FreeFaces::Drained {
+                let why = "a run puts the pressure on every face below the table (\"submerged\"); \"drained\" is taken by `nmm3d keyblocks` only, so far";
+                return Err(Error::input(label, "water.free_faces", why));
+            }
+            let g = Vec3::from(self.scenario.analysis.gravity);
+            if g.norm() > 0.0 {
+                self.add_water((w.table, -g.normalize()), w.density * g.norm());
+            }
+        }
         for (i, pl) in self.scenario.point_load.clone().iter().enumerate() {
             let x = Vec3::from(pl.point);
             let (_, e) = self.locate(&x).ok_or_else(|| {
@@ -189,6 +199,19 @@ impl System {
             }
         }
         Ok(())
+    }
+
+    /// Hydrostatic pressure below the water table (height along `table.1`, against gravity) on
+    /// the boundary faces of the movable blocks
+    /// (the fixed ones cannot move: their forces would go nowhere).
+    fn add_water(&mut self, table: (f64, Vec3), unit_weight: f64) {
+        for me in self.covers.elements.iter().filter(|me| !self.geometry.blocks[me.block].fixed) {
+            if let Some(f) = loads::hydrostatic_forces(&self.covers, me, table, unit_weight) {
+                for (a, &c) in me.covers.iter().enumerate() {
+                    self.external[c] += f[a];
+                }
+            }
+        }
     }
 
     fn add_constraints(&mut self, label: &str) -> Result<()> {

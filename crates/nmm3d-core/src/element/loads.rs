@@ -47,6 +47,43 @@ pub fn initial_stress(covers: &Covers, e: &ManifoldElement, s: &InSituStress) ->
     (forces, in_situ_at(s, e.centroid(&covers.mesh).z))
 }
 
+/// Nodal forces of hydrostatic water pressure p = γ_w (table − h) on the parts of an ME's
+/// boundary faces below the water table, h = up·x the height along `up` (against gravity):
+/// f_a = −n ∫ w_a p dA per face (the pressure pushes into the block); `None` when no boundary
+/// face is wet.
+pub fn hydrostatic_forces(
+    covers: &Covers,
+    e: &ManifoldElement,
+    (table, up): (f64, Vec3),
+    unit_weight: f64,
+) -> Option<Vec<Vec3>> {
+    let mesh = &covers.mesh;
+    let (sz, r) = (mesh.size, mesh.rotation);
+    let h_corner = up.dot(&mesh.to_global(&cell_corner(e.cell)));
+    let rz = r.transpose() * up * sz; // h(ξ) = h_corner + rz·ξ
+                                      // Below the table: rz·ξ ≤ table − h_corner.
+    let wet = nmm3d_geom::Plane::from_point_normal(Vec3::zeros(), rz)?;
+    let wet = nmm3d_geom::Plane { offset: (table - h_corner) / rz.norm(), ..wet };
+    let pressure = Poly::affine(unit_weight * (table - h_corner), -unit_weight * rz);
+    let exps = poly::all_exponents();
+    let weights = covers.weights(e);
+    let mut total: Option<Vec<Vec3>> = None;
+    for f in e.boundary_faces() {
+        let part = nmm3d_geom::polygon::clip_polygon_to(&f.vertices, &wet, 1e-12);
+        if part.len() < 3 {
+            continue;
+        }
+        let m: [f64; TERMS] = integrate::polygon_moments(&part, &exps).try_into().expect("27 moments");
+        let n = (r * f.area_vector()).normalize();
+        let forces = weights.iter().map(|w| -n * (w.mul(&pressure).integrate(&m) * sz * sz));
+        total = Some(match total {
+            None => forces.collect(),
+            Some(t) => t.iter().zip(forces).map(|(a, b)| a + b).collect(),
+        });
+    }
+    total
+}
+
 /// Weight-function values of an ME's nodes at a global reference point.
 pub fn weights_at(covers: &Covers, e: &ManifoldElement, x: &Vec3) -> Vec<f64> {
     let xi = covers.cell_local(e, x);

@@ -98,6 +98,9 @@ fn seismic(c: &mut Checker, s: &Scenario) {
             c.fail("seismic.series.time", "must increase strictly");
         }
     }
+    if let Some(w) = &s.water {
+        c.positive("water.density", w.density);
+    }
     if q.moves() && s.analysis.kind == AnalysisKind::Static {
         c.fail("seismic", "a moving base needs a dynamic analysis (`analysis.kind = \"dynamic\"`)");
     }

@@ -85,6 +85,39 @@ pub struct InSituStress {
     pub reference_z: f64,
 }
 
+/// `[water]`: a water table; hydrostatic pressure on every boundary face of the movable blocks
+/// below it (addition to v1). On the two faces of a joint the pressures push the blocks apart,
+/// so the contact carries the effective normal force, which the Coulomb law then takes.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Water {
+    /// Height of the water table [m]: pressure ρ_w |g| (table − h) below it, h the height
+    /// against gravity (z for the usual gravity [0, 0, −g]).
+    pub table: f64,
+    /// Density of water [kg/m³].
+    #[serde(default = "water_density")]
+    pub density: f64,
+    /// Whether free faces (not touching rock) below the table carry the pressure too.
+    #[serde(default)]
+    pub free_faces: FreeFaces,
+}
+
+/// Water on the free faces below the table.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FreeFaces {
+    /// Under water too (a flooded excavation, a reservoir): the hydrostatic field everywhere.
+    #[default]
+    Submerged,
+    /// Drained (a seepage face, Hoek & Bray's slope face): pressure in the joints only.
+    /// Key-block analysis only, so far.
+    Drained,
+}
+
+fn water_density() -> f64 {
+    1000.0
+}
+
 /// `[seismic]`: earthquake loading (addition to v1). The fixed bodies shake together as one
 /// rigid base; the run is computed in the base's frame, where the shaking is the body force
 /// −m a_base(t) on every movable block, so displacements and velocities in the outputs are

@@ -71,6 +71,9 @@ pub struct Scenario {
     /// Initial stress.
     #[serde(default)]
     pub in_situ_stress: Option<InSituStress>,
+    /// A water table (addition to v1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub water: Option<Water>,
     /// Earthquake loading: pseudo-static coefficients and base motion (addition to v1).
     #[serde(default)]
     pub seismic: Seismic,

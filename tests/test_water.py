@@ -1,0 +1,97 @@
+"""Joint water pressure ([water]): hydrostatic pressure below a water table, against Archimedes
+(a run: every face below the table) and Hoek & Bray's planar factor of safety with the uplift U
+and the crack force V (the key-block analysis with drained free faces).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+import nmm3d
+from nmm3d import analytic
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+INCLINE = EXAMPLES / "incline.toml"  # 1 m cube, ρ = 2500, on a 30° plane, φ = 24°, g = 10
+G, PSI, PHI, RHO = 10.0, 30.0, 24.0, 2500.0
+
+
+def sliding_acceleration(tmp_path, *overrides) -> float:
+    r = nmm3d.load(INCLINE, overrides).run(out=tmp_path / "run")
+    u = [r.history[f"cube.displacement.{c}"][-1] for c in "xyz"]
+    return 2.0 * math.hypot(*u) / r.history["time"][-1] ** 2
+
+
+@pytest.mark.parametrize("table, submerged", [
+    (5.0, 1.0),
+    # The table 0.4 m above the cube's lowest edge (z = −0.25): the wet part is a prism of
+    # cross-section ½ h (h cot 30° + h cot 60°) = 2h²/√3.
+    (0.15, 2 * 0.4**2 / math.sqrt(3)),
+])
+def test_a_submerged_block_slides_as_archimedes_says(tmp_path, table, submerged):
+    """Pressure on every face below the table: the net push is the buoyancy ρ_w g V_sub, so the
+    block slides with a = g (1 − ρ_w V_sub / (ρ V)) (sin ψ − cos ψ tan φ)."""
+    dry = analytic.incline_sliding(PSI, PHI, G, 1.0) * 2.0
+    exact = dry * (1.0 - 1000.0 * submerged / RHO)
+    assert sliding_acceleration(tmp_path, f"water.table={table}") == pytest.approx(exact, rel=0.01)
+
+
+def test_water_below_the_block_changes_nothing(tmp_path):
+    dry = sliding_acceleration(tmp_path / "dry")
+    assert sliding_acceleration(tmp_path / "wet", "water.table=-1.0") == pytest.approx(dry, rel=1e-12)
+
+
+def test_a_drained_run_is_refused_with_its_key(tmp_path):
+    with pytest.raises(nmm3d.ScenarioError, match="water.free_faces"):
+        nmm3d.load(INCLINE, ["water.table=0.15", 'water.free_faces="drained"']).run(out=tmp_path / "run")
+
+
+def test_key_block_with_uplift_on_its_base_is_hoek_and_bray():
+    """Drained free faces, the base wet over 0.8 m with pressure falling linearly from
+    γ_w 0.4 m to 0: U = ½ γ_w 0.4 × 0.8 × 1 m; FS = (W cos ψ − U) tan φ / (W sin ψ)."""
+    kb = nmm3d.keyblocks(nmm3d.load(INCLINE, ["water.table=0.15", 'water.free_faces="drained"']))
+    [b] = kb.key_blocks()
+    w, u = RHO * G, 0.5 * 1000.0 * G * 0.4 * 0.8
+    assert b.mode.factor_of_safety == pytest.approx(analytic.planar_fs(w, PSI, PHI, uplift=u), abs=1e-9)
+    # Submerged all round, the water only buoys it: the factor of safety is the dry one.
+    dry = nmm3d.keyblocks(INCLINE).key_blocks()[0].mode.factor_of_safety
+    wet = nmm3d.keyblocks(nmm3d.load(INCLINE, ["water.table=0.15"])).key_blocks()[0].mode.factor_of_safety
+    assert wet == pytest.approx(dry, abs=1e-12)
+
+
+def step_model(table: float) -> nmm3d.Scenario:
+    """A 2 × 1 × 1 m block on a base, its back against a wall (the tension crack); gravity tilted
+    by ψ so that the base dips ψ down +x and the crack stands normal to it."""
+    psi = math.radians(PSI)
+    box = lambda lo, hi: {"box": {"min": lo, "max": hi}}  # noqa: E731
+    return nmm3d.Scenario.from_dict({
+        "analysis": {"gravity": [G * math.sin(psi), 0.0, -G * math.cos(psi)]},
+        "material": [{"name": "rock", "density": RHO, "young": 1e10, "poisson": 0.25}],
+        "joint": [{"name": "j", "friction_angle": PHI}],
+        "water": {"table": table, "free_faces": "drained"},
+        "body": [
+            {"name": "base", "material": "rock", "fixed": True, "shape": box([-2.0, 0.0, -1.0], [4.0, 1.0, 0.0])},
+            {"name": "wall", "material": "rock", "fixed": True, "shape": box([-2.0, 0.0, 0.0], [0.0, 1.0, 2.0])},
+            {"name": "block", "material": "rock", "joint": "j", "shape": box([0.0, 0.0, 0.0], [2.0, 1.0, 1.0])},
+        ],
+    })
+
+
+def test_key_block_with_a_water_filled_crack_is_hoek_and_bray():
+    """Heights against gravity h = −x sin ψ + z cos ψ; table at h = 0.6 cos ψ: the crack (x = 0)
+    is wet up to z = 0.6, V = γ_w cos ψ 0.6²/2 pushing down the base; the whole base is wet,
+    U = γ_w ∫₀² (0.6 cos ψ + x sin ψ) dx. FS = (W cos ψ − U) tan φ / (W sin ψ + V)."""
+    psi = math.radians(PSI)
+    gw = 1000.0 * G
+    kb = nmm3d.keyblocks(step_model(0.6 * math.cos(psi)))
+    [b] = kb.key_blocks()
+    u = gw * (1.2 * math.cos(psi) + 2.0 * math.sin(psi))
+    v = gw * math.cos(psi) * 0.6**2 / 2
+    exact = analytic.planar_fs(2 * RHO * G, PSI, PHI, uplift=u, crack=v, crack_angle=0.0)
+    assert b.mode.mode == "sliding_one_plane"
+    assert b.mode.factor_of_safety == pytest.approx(exact, abs=1e-9)
+    # And dry, the textbook tan φ / tan ψ.
+    dry = nmm3d.keyblocks(step_model(-10.0)).key_blocks()[0]
+    assert dry.mode.factor_of_safety == pytest.approx(math.tan(math.radians(PHI)) / math.tan(psi), abs=1e-12)
