@@ -18,6 +18,8 @@ whose conditions hold:
 
 The critical friction angle is the friction angle, equal on the sliding planes, at which FS = 1:
 tan φ_c = (T − Σ c A) / Σ N (0 when cohesion alone holds the block; 90° for falling).
+Passive support P (bolts at capacity) adds its normal parts to the N and −P·s to the
+resistance; a falling block's FS is then −P·s / |r|.
 Rotation is outside translational theory: :func:`weight_line_leaves` flags a block whose line of
 action through its centroid misses its sliding faces (possible toppling).
 """
@@ -84,23 +86,32 @@ def can_move(normals: list[np.ndarray], tol: float = 1e-9) -> np.ndarray | None:
     return None
 
 
-def failure_mode(planes: list[Plane], force: np.ndarray, tol: float = 1e-9) -> Mode:
-    """The mode, factor of safety and critical friction angle of a block under ``force`` [N]."""
+def failure_mode(planes: list[Plane], force: np.ndarray, support: np.ndarray | None = None,
+                 tol: float = 1e-9) -> Mode:
+    """The mode, factor of safety and critical friction angle of a block under the active
+    ``force`` [N], resisted by the passive ``support`` [N] (bolts at their capacity): the mode
+    is the active force's; the support adds its normal components to the planes' normal forces
+    and its component against the movement to the resistance (the passive support of Unwedge
+    and Swedge; Hoek, Practical Rock Engineering, ch. 10)."""
+    support = np.zeros(3) if support is None else np.asarray(support, float)
     normals = [p.normal for p in planes]
     if can_move(normals, tol) is None:
         return Mode(NOT_REMOVABLE, np.zeros(3))
     w = float(np.linalg.norm(force))
+    if w == 0.0:
+        return Mode(STABLE, np.zeros(3))
     r = force / w  # work per unit force; forces scaled back below
     if all(float(r @ n) <= tol for n in normals):
-        return Mode(FALLING, r, driving_force=w, factor_of_safety=0.0, critical_friction_angle=90.0)
+        held = max(0.0, -float(support @ r))
+        return Mode(FALLING, r, driving_force=w, factor_of_safety=held / w, critical_friction_angle=90.0)
     for i, p in enumerate(planes):
         m = _one_plane(planes, i, r, tol)
         if m is not None:
-            return _scaled(planes, m, w)
+            return _scaled(planes, m, w, support)
     for i, j in itertools.combinations(range(len(planes)), 2):
         m = _two_planes(planes, i, j, r, tol)
         if m is not None:
-            return _scaled(planes, m, w)
+            return _scaled(planes, m, w, support)
     return Mode(STABLE, np.zeros(3))
 
 
@@ -137,15 +148,31 @@ def _two_planes(planes: list[Plane], i: int, j: int, r: np.ndarray, tol: float) 
     return Mode(TWO_PLANES, s, (i, j), (big_ni, big_nj), drive)
 
 
-def _scaled(planes: list[Plane], m: Mode, w: float) -> Mode:
-    """Forces back in N, then the factor of safety and the critical friction angle."""
-    normal = tuple(w * x for x in m.normal_forces)
+def _scaled(planes: list[Plane], m: Mode, w: float, support: np.ndarray) -> Mode:
+    """Forces back in N with the support's share, then the factor of safety and the critical
+    friction angle."""
+    normal = tuple(w * x + y for x, y in zip(m.normal_forces, _normal_parts(planes, m, support)))
+    normal = tuple(max(0.0, x) for x in normal)
     drive = w * m.driving_force
+    held = -float(support @ m.direction)
     friction = sum(f * math.tan(math.radians(planes[k].friction_angle)) for k, f in zip(m.planes, normal))
     cohesion = sum(planes[k].cohesion * planes[k].area for k in m.planes)
-    fs = (friction + cohesion) / drive
-    critical = math.degrees(math.atan(max(drive - cohesion, 0.0) / sum(normal)))
+    fs = (friction + cohesion + held) / drive
+    total = sum(normal)
+    need = max(drive - cohesion - held, 0.0)
+    critical = math.degrees(math.atan(need / total)) if total > 0 else (0.0 if need == 0 else 90.0)
     return Mode(m.mode, m.direction, m.planes, normal, drive, fs, critical)
+
+
+def _normal_parts(planes: list[Plane], m: Mode, f: np.ndarray) -> tuple[float, ...]:
+    """The normal forces a force ``f`` adds on the sliding planes of mode ``m``."""
+    if not np.any(f):
+        return tuple(0.0 for _ in m.planes)
+    if len(m.planes) == 1:
+        return (float(f @ planes[m.planes[0]].normal),)
+    ni, nj = planes[m.planes[0]].normal, planes[m.planes[1]].normal
+    c, fi, fj = float(ni @ nj), float(f @ ni), float(f @ nj)
+    return ((fi - c * fj) / (1 - c * c), (fj - c * fi) / (1 - c * c))
 
 
 def weight_line_leaves(centroid: np.ndarray, force: np.ndarray, faces: list[np.ndarray]) -> bool:

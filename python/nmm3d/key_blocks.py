@@ -10,7 +10,8 @@ face that is not fixed is analysed by block theory (:mod:`nmm3d.block_theory`) u
 with the friction angle and cohesion of the joint on each plane (the joint that contact would
 use), the pseudo-static seismic force of ``[seismic] coefficient`` and the water pressure below
 ``[water] table`` (on the held faces, and on the free ones unless they are drained): the normal
-forces are then effective. Not included: in-situ stress, support.
+forces are then effective; and the passive support of its bolts (``[[bolt]]`` with a yield
+force, head in the block, anchor beyond). Not included: in-situ stress.
 """
 
 from __future__ import annotations
@@ -163,7 +164,8 @@ def _analyse(d: dict[str, Any], surfaces: dict[str, Any]) -> list[KeyBlock]:
             continue
         labelled = [dict(f, label=_label(f, labels, names)) for f in held]
         water = _water_force(d, faces if _submerged(d) else held, float(np.linalg.norm(g)))
-        out.append(_key_block(k, b, labelled, free, (g, load, water), joints, surfaces["features"]))
+        support = _support(d, surfaces.get("bolts", []), k)
+        out.append(_key_block(k, b, labelled, free, (g, load, water, support), joints, surfaces["features"]))
     return out
 
 
@@ -177,12 +179,12 @@ def free_sides(d: dict[str, Any]) -> list[str]:
 
 def _key_block(k, b, held, free, accelerations, joints, features) -> KeyBlock:
     """``accelerations``: gravity, the acceleration whose body force acts (gravity and the
-    pseudo-static seismic one), and the water's force on the block [N]."""
-    g, load, water = accelerations
+    pseudo-static seismic one), the water's force on the block and its bolts' support [N]."""
+    g, load, water, support = accelerations
     planes, polygons = _planes(held, joints)
     weight = b["density"] * b["volume"] * float(np.linalg.norm(g))
     force = b["density"] * b["volume"] * load + water
-    mode = failure_mode(planes, force)
+    mode = failure_mode(planes, force, support)
     centroid = np.asarray(b["centroid"], float)
     sliding = [p for i in mode.planes for p in polygons[i]]
     warn = bool(sliding) and weight_line_leaves(centroid, force, sliding)
@@ -205,6 +207,19 @@ def _water_force(d: dict[str, Any], faces: list[dict[str, Any]], g: float) -> np
     unit_weight, up = w.get("density", 1000.0) * g, -gravity / g
     return sum((hydrostatic_force(np.asarray(f["vertices"], float), np.asarray(f["normal"], float), w["table"],
                                   unit_weight, up) for f in faces), np.zeros(3))
+
+
+def _support(d: dict[str, Any], bolts: list[dict[str, Any]], block: int) -> np.ndarray:
+    """The passive support of the bolts whose head is in ``block`` and anchor in another block:
+    each pulls towards its anchor with its yield force (bolts without one are not counted)."""
+    spec = {b["name"]: b for b in d.get("bolt", [])}
+    total = np.zeros(3)
+    for b in bolts:
+        s = spec[b["name"]]
+        if b["head_block"] == block and b["anchor_block"] not in (None, block) and s.get("yield_force"):
+            axis = np.subtract(s["anchor"], s["head"])
+            total += s["yield_force"] * axis / np.linalg.norm(axis)
+    return total
 
 
 def _planes(held, joints) -> tuple[list[Plane], list[list[np.ndarray]]]:

@@ -280,8 +280,9 @@ struct Recorder {
 const HISTORY_FLUSH_SECONDS: f64 = 10.0;
 
 impl Recorder {
-    fn new(_sys: &System, monitors: Vec<MonitorPlan>, out: &Path) -> Self {
-        let columns = monitors.iter().flat_map(|m| m.columns()).collect();
+    fn new(sys: &System, monitors: Vec<MonitorPlan>, out: &Path) -> Self {
+        let bolts = sys.scenario.bolt.iter().flat_map(|b| b.columns());
+        let columns = monitors.iter().flat_map(|m| m.columns()).chain(bolts).collect();
         Self {
             monitors,
             history: tables::History::new(columns),
@@ -307,7 +308,8 @@ impl Recorder {
         let a = &sys.scenario.analysis;
         let eps = 1e-9 * a.dt;
         if first || a.history_interval.is_none() || state.time + eps >= self.next_history {
-            let vals = self.monitors.iter().flat_map(|m| m.values(sys, state)).collect();
+            let mut vals: Vec<f64> = self.monitors.iter().flat_map(|m| m.values(sys, state)).collect();
+            vals.extend(crate::time::bolt_values(sys, state));
             self.history.rows.push((state.time, state.step, vals));
             if let Some(h) = a.history_interval {
                 self.next_history = (state.time / h + 1e-9).floor() * h + h;

@@ -2,6 +2,7 @@
 
 use nmm3d_geom::{Mat3, Vec3};
 
+use crate::element::bolt::BoltState;
 use crate::scenario::AnalysisKind;
 use crate::system::System;
 
@@ -23,6 +24,9 @@ pub struct State {
     pub a: Vec<Vec3>,
     /// Co-rotation of each ME (warm start of the polar decomposition).
     pub rotations: Vec<Mat3>,
+    /// Plastic elongation and rupture of each bolt.
+    #[serde(default)]
+    pub bolts: Vec<BoltState>,
 }
 
 impl State {
@@ -51,6 +55,7 @@ impl State {
             u: vec![Vec3::zeros(); n],
             v,
             rotations: vec![Mat3::identity(); sys.covers.elements.len()],
+            bolts: vec![BoltState::default(); sys.bolts.len()],
         }
     }
 

@@ -10,6 +10,7 @@ use crate::assembly::assembler::masters_of;
 use crate::assembly::{Assembler, DofMap, SparsityPattern};
 use crate::cover::pattern::parity;
 use crate::cover::{aggregation, Covers, MathMesh, PatternTable};
+use crate::element::bolt::BoltSpring;
 use crate::element::{element_kernel, loads, penalty, ElementKernel, PointConstraint};
 use crate::error::{Error, Result};
 use crate::model::Geometry;
@@ -43,6 +44,8 @@ pub struct System {
     pub cover_mass: Vec<f64>,
     /// Penalty points.
     pub constraints: Vec<PointConstraint>,
+    /// Rock bolts; bolt `k` is clique `elements + k` of the assembler.
+    pub bolts: Vec<BoltSpring>,
     /// Penalty stiffness [N/m].
     pub penalty: f64,
     /// Half the largest model extent, w₀ of the displacement ratio [m].
@@ -74,7 +77,9 @@ impl System {
         let tied = aggregation::tie_ill_posed(&covers, &fixed_block, scenario.cover.aggregation_threshold);
         let fixed: Vec<bool> = covers.covers.iter().map(|c| fixed_block[c.block]).collect();
         let dofs = DofMap::new(&fixed, &tied);
-        let (assembler, mass_values) = pattern_and_mass(&covers, &dofs, &kernels, &kernel_of);
+        let bolts = bolt_springs(&scenario, &geometry, &covers, label)?;
+        let bolt_cliques: Vec<&[usize]> = bolts.iter().map(|b| b.covers.as_slice()).collect();
+        let (assembler, mass_values) = pattern_and_mass(&covers, &dofs, &kernels, &kernel_of, &bolt_cliques);
         let max_young = geometry.materials.iter().map(|m| m.young).fold(0.0, f64::max);
         let penalty = match scenario.analysis.penalty_stiffness {
             Stiffness::Value(v) => v,
@@ -84,6 +89,7 @@ impl System {
             external: vec![Vec3::zeros(); covers.covers.len()],
             cover_mass: vec![0.0; covers.covers.len()],
             constraints: Vec::new(),
+            bolts,
             half_size: 0.5 * ext.max(),
             scenario,
             geometry,
@@ -134,9 +140,7 @@ impl System {
 
     /// The block holding a reference point (first match), and the ME.
     pub fn locate(&self, x: &Vec3) -> Option<(usize, usize)> {
-        let tol = 1e-9 * self.covers.mesh.size;
-        let b = self.geometry.blocks.iter().position(|b| b.contains(x, tol))?;
-        self.covers.locate(b, x, tol).map(|e| (b, e))
+        locate(&self.geometry, &self.covers, x)
     }
 
     /// The body force of a base acceleration `a` [m/s²]: −m a per cover [N] (the run is in the
@@ -242,13 +246,39 @@ impl System {
 
 /// The sparsity pattern of the MEs' cover cliques, its scatter maps, and the consistent mass
 /// assembled on it.
+/// The block holding a reference point (first match), and the ME.
+fn locate(geometry: &Geometry, covers: &Covers, x: &Vec3) -> Option<(usize, usize)> {
+    let tol = 1e-9 * covers.mesh.size;
+    let b = geometry.blocks.iter().position(|b| b.contains(x, tol))?;
+    covers.locate(b, x, tol).map(|e| (b, e))
+}
+
+/// The scenario's bolts, each point located in its ME.
+fn bolt_springs(s: &Scenario, geometry: &Geometry, covers: &Covers, label: &str) -> Result<Vec<BoltSpring>> {
+    let point = |name: &str, key: &str, x: [f64; 3]| -> Result<(&[usize], Vec<f64>)> {
+        let x = Vec3::from(x);
+        let (_, e) = locate(geometry, covers, &x)
+            .ok_or_else(|| Error::input(label, format!("bolt.{name}.{key}"), "the point is not inside any block"))?;
+        let me = &covers.elements[e];
+        Ok((me.covers.as_slice(), loads::weights_at(covers, me, &x)))
+    };
+    s.bolt
+        .iter()
+        .map(|b| Ok(BoltSpring::new(b, point(&b.name, "head", b.head)?, point(&b.name, "anchor", b.anchor)?)))
+        .collect()
+}
+
+/// The pattern of the elements and of the `extra` cliques (bolts, after the elements), and the
+/// assembled mass.
 pub fn pattern_and_mass(
     covers: &Covers,
     dofs: &DofMap,
     kernels: &[ElementKernel],
     kernel_of: &[usize],
+    extra: &[&[usize]],
 ) -> (Assembler, Vec<f64>) {
-    let cliques: Vec<&[usize]> = covers.elements.iter().map(|e| e.covers.as_slice()).collect();
+    let cliques: Vec<&[usize]> =
+        covers.elements.iter().map(|e| e.covers.as_slice()).chain(extra.iter().copied()).collect();
     let masters: Vec<Vec<usize>> = cliques.iter().map(|c| masters_of(dofs, c).0).collect();
     let pattern = SparsityPattern::from_cliques(dofs, masters.iter().map(|c| c.as_slice()));
     let assembler = Assembler::new(pattern, dofs, &cliques);

@@ -27,7 +27,7 @@ struct Surface<'a> {
 pub fn surfaces(scenario: &Scenario) -> Value {
     let g = Geometry::from_scenario(scenario);
     if g.blocks.is_empty() {
-        return json!({ "blocks": [], "faces": [], "features": [], "bounds": Value::Null });
+        return json!({ "blocks": [], "faces": [], "features": [], "bolts": [], "bounds": Value::Null });
     }
     let bounds = g.aabb();
     let all = boundary_faces(&g.blocks);
@@ -60,8 +60,15 @@ pub fn surfaces(scenario: &Scenario) -> Value {
         .iter()
         .map(|f| json!({ "normal": [f.normal.x, f.normal.y, f.normal.z], "set": f.spacing.is_some() }))
         .collect();
+    let tol = 1e-9 * bounds.diagonal();
+    let holding = |x: [f64; 3]| g.blocks.iter().position(|b| b.contains(&Vec3::from(x), tol));
+    let bolts: Vec<Value> = scenario
+        .bolt
+        .iter()
+        .map(|b| json!({ "name": b.name, "head_block": holding(b.head), "anchor_block": holding(b.anchor) }))
+        .collect();
     json!({
-        "blocks": blocks, "faces": faces, "features": features,
+        "blocks": blocks, "faces": faces, "features": features, "bolts": bolts,
         "bounds": { "min": [bounds.min.x, bounds.min.y, bounds.min.z], "max": [bounds.max.x, bounds.max.y, bounds.max.z] },
     })
 }

@@ -1,5 +1,6 @@
 //! Element matrices and loads: kernels make local blocks, the assembler scatters them.
 
+pub mod bolt;
 pub mod kernel;
 pub mod loads;
 pub mod penalty;

@@ -75,10 +75,39 @@ pub fn problems(s: &Scenario) -> Vec<Problem> {
     cutting(&mut c, s);
     loads(&mut c, s);
     seismic(&mut c, s);
+    bolts(&mut c, s);
     monitors(&mut c, s);
     expectations(&mut c, s);
     finite(&mut c, s);
     c.problems
+}
+
+/// Bolts: unique names (not a monitor's either), a positive stiffness, a length.
+fn bolts(c: &mut Checker, s: &Scenario) {
+    c.unique("bolt", s.bolt.iter().map(|b| &b.name));
+    for b in &s.bolt {
+        let p = format!("bolt.{}", b.name);
+        if s.monitor.iter().any(|m| m.name == b.name) {
+            c.fail(format!("{p}.name"), "a monitor has this name too (their history columns would clash)");
+        }
+        c.positive(&format!("{p}.stiffness"), b.stiffness);
+        if !(b.pretension >= 0.0 && b.pretension.is_finite()) {
+            c.fail(format!("{p}.pretension"), format!("must be a finite number >= 0, got {}", b.pretension));
+        }
+        if let Some(y) = b.yield_force {
+            c.positive(&format!("{p}.yield_force"), y);
+            if b.pretension > y {
+                c.fail(format!("{p}.pretension"), "exceeds the yield force");
+            }
+        }
+        if let Some(r) = b.rupture_elongation {
+            c.positive(&format!("{p}.rupture_elongation"), r);
+        }
+        let d: f64 = (0..3).map(|i| (b.head[i] - b.anchor[i]).powi(2)).sum::<f64>().sqrt();
+        if !(d > 0.0) {
+            c.fail(format!("{p}.anchor"), "the anchor must differ from the head");
+        }
+    }
 }
 
 /// Pulses and sines last a positive time; a series has increasing times and one value each.
@@ -378,6 +407,7 @@ fn expectations(c: &mut Checker, s: &Scenario) {
                 .iter()
                 .flat_map(move |q| q.components().iter().map(move |k| format!("{}.{}.{k}", m.name, q.name())))
         })
+        .chain(s.bolt.iter().flat_map(|b| b.columns()))
         .collect();
     for (i, e) in s.expect.iter().enumerate() {
         let p = format!("expect[{i}]");

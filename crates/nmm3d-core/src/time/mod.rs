@@ -1,5 +1,6 @@
 //! Time stepping: Newmark/DDA integration, co-rotation, adaptive step, the stepper.
 
+mod bolts;
 pub mod contact_pattern;
 pub mod corotation;
 pub mod cut;
@@ -13,6 +14,7 @@ pub mod step_control;
 pub mod stepper;
 mod vectors;
 
+pub use bolts::{bolt_values, update_bolts};
 pub use cut::{Cut, CutReason};
 pub use energy::Energy;
 pub use integrator::Newmark;

@@ -43,6 +43,7 @@ impl Stepper {
             }
         }
         self.add_penalties(sys, state, &mut residual);
+        self.add_bolts(sys, state, &mut residual);
         residual
     }
 

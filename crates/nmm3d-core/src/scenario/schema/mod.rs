@@ -5,11 +5,13 @@ mod controls;
 mod loads;
 mod monitor;
 mod rock;
+mod support;
 
 pub use controls::*;
 pub use loads::*;
 pub use monitor::*;
 pub use rock::*;
+pub use support::*;
 
 use serde::{Deserialize, Serialize};
 
@@ -71,6 +73,9 @@ pub struct Scenario {
     /// Initial stress.
     #[serde(default)]
     pub in_situ_stress: Option<InSituStress>,
+    /// Rock bolts (addition to v1).
+    #[serde(default)]
+    pub bolt: Vec<Bolt>,
     /// A water table (addition to v1).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub water: Option<Water>,

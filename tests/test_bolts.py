@@ -1,0 +1,94 @@
+"""Anchored rock bolts ([[bolt]]): a block hung by one bolt (static extension W / k), pretension,
+yield (the block then comes down at (W − F_y) / m) and rupture (free fall), against closed forms.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import nmm3d
+
+EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "bolted_block.toml"
+W = 2500.0 * 9.81 * 1.0  # the cube's weight [N]
+K = 1.0e7                # the bolt's stiffness [N/m]
+DYNAMIC = ['analysis.kind="dynamic"', "analysis.dt=0.001", "analysis.duration=0.3",
+           "analysis.max_displacement_ratio=0.01"]
+
+
+def run(tmp_path, *overrides) -> nmm3d.Result:
+    return nmm3d.load(EXAMPLE, overrides).run(out=tmp_path / "run")
+
+
+def test_a_hanging_block_stretches_its_bolt_by_w_over_k(tmp_path):
+    r = run(tmp_path)
+    assert r.status == "completed"
+    assert r.history["b1.elongation.value"][-1] == pytest.approx(W / K, rel=1e-6)
+    assert r.history["b1.axial_force.value"][-1] == pytest.approx(W, rel=1e-6)
+
+
+def test_pretension_is_taken_off_the_stretch(tmp_path):
+    """Tension P₀ + k δ carries W: δ = (W − P₀) / k."""
+    r = run(tmp_path, "bolt.b1.pretension=1e4")
+    assert r.history["b1.elongation.value"][-1] == pytest.approx((W - 1e4) / K, rel=1e-6)
+    assert r.history["b1.axial_force.value"][-1] == pytest.approx(W, rel=1e-6)
+
+
+def test_a_bolt_that_yields_lets_the_block_down_at_the_closed_form_rate(tmp_path):
+    fy = 2.0e4
+    r = run(tmp_path, *DYNAMIC, f"bolt.b1.yield_force={fy}")
+    t, v = r.history["time"], r.history["block.velocity.z"]
+    late = t > 0.05  # yielded within the first millimetres
+    slope = np.polyfit(t[late], v[late], 1)[0]
+    assert slope == pytest.approx(-(W - fy) / 2500.0, rel=0.01)
+    assert np.allclose(r.history["b1.axial_force.value"][late], fy, rtol=1e-9)
+
+
+def test_a_bolt_that_breaks_lets_the_block_fall_freely(tmp_path):
+    r = run(tmp_path, *DYNAMIC, "bolt.b1.rupture_elongation=1e-3")
+    t, v = r.history["time"], r.history["block.velocity.z"]
+    broken = r.history["b1.axial_force.value"] == 0.0
+    assert broken[-1] and r.history["b1.elongation.value"][-1] > 0.1
+    late = t > 0.05
+    assert np.polyfit(t[late], v[late], 1)[0] == pytest.approx(-9.81, rel=1e-3)
+
+
+def test_a_bolt_outside_the_rock_is_named(tmp_path):
+    with pytest.raises(nmm3d.ScenarioError, match="bolt.b1.anchor"):
+        run(tmp_path, "bolt.b1.anchor=[0.5, 0.5, 5.0]")
+
+
+def test_bolt_inputs_are_checked():
+    with pytest.raises(nmm3d.ScenarioError, match="bolt.b1.stiffness"):
+        nmm3d.load(EXAMPLE, ["bolt.b1.stiffness=0"])
+    with pytest.raises(nmm3d.ScenarioError, match="bolt.b1.pretension"):
+        nmm3d.load(EXAMPLE, ["bolt.b1.yield_force=1e3", "bolt.b1.pretension=2e3"])
+
+
+@pytest.mark.parametrize("fy", [2e3, 1e4])
+def test_key_block_held_by_a_bolt_on_a_plane_is_the_passive_support_closed_form(fy):
+    """The incline's cube (W = 25 kN, ψ = 30°, φ = 24°) with a bolt from its centre, pointing
+    upslope and into the rock at 45°: its yield force F_y adds F_y/√2 to the normal force and
+    F_y/√2 against the sliding: FS = ((W cos ψ + F_y/√2) tan φ + F_y/√2) / (W sin ψ)."""
+    import math
+
+    incline = EXAMPLE.parent / "incline.toml"
+    d = nmm3d.load(incline).to_dict()
+    psi, phi, w = math.radians(30.0), math.radians(24.0), 2500.0 * 10.0
+    n, s = np.array([math.sin(psi), 0.0, math.cos(psi)]), np.array([math.cos(psi), 0.0, -math.sin(psi)])
+    head = 0.5 * n  # the cube's centre
+    axis = -(s + n) / math.sqrt(2.0)
+    d["bolt"] = [{"name": "b", "head": head.tolist(), "anchor": (head + 2.0 * axis).tolist(), "stiffness": 1e8,
+                  "yield_force": fy}]
+    [b] = nmm3d.keyblocks(nmm3d.Scenario.from_dict(d)).key_blocks()
+    exact = ((w * math.cos(psi) + fy / math.sqrt(2)) * math.tan(phi) + fy / math.sqrt(2)) / (w * math.sin(psi))
+    assert b.mode.mode == "sliding_one_plane"
+    assert b.mode.factor_of_safety == pytest.approx(exact, abs=1e-9)
+
+
+def test_key_block_falling_on_its_bolt_has_the_support_over_the_weight():
+    for fy in (1e4, 5e4):
+        [b] = nmm3d.keyblocks(nmm3d.load(EXAMPLE, [f"bolt.b1.yield_force={fy}"])).blocks
+        assert b.mode.mode == "falling" and b.mode.factor_of_safety == pytest.approx(fy / W, rel=1e-12)
