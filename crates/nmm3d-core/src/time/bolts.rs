@@ -29,15 +29,16 @@ impl Stepper {
             }
         }
     }
-}
 
-/// After an accepted step: each bolt yields or breaks at its elongation.
-pub fn update_bolts(sys: &System, state: &mut State) {
-    for (b, s) in sys.bolts.iter().zip(state.bolts.iter_mut()) {
-        let delta = b.elongation(&state.u);
-        s.update(b, delta);
+    /// After an accepted step: each bolt yields or breaks at its elongation.
+    pub(super) fn update_bolts(&self, sys: &System, state: &mut State) {
+        for (b, s) in sys.bolts.iter().zip(state.bolts.iter_mut()) {
+            let delta = b.elongation(&state.u);
+            s.update(b, delta);
+        }
     }
 }
+
 
 /// Tension [N] (0 once broken) and elongation [m] of each bolt, in the order of its history
 /// columns.

@@ -14,7 +14,7 @@ pub mod step_control;
 pub mod stepper;
 mod vectors;
 
-pub use bolts::{bolt_values, update_bolts};
+pub use bolts::bolt_values;
 pub use cut::{Cut, CutReason};
 pub use energy::Energy;
 pub use integrator::Newmark;

@@ -273,7 +273,7 @@ impl Stepper {
                 Verdict::Accept => {
                     let kinetic0 = kinetic_energy(sys, &state.v, &mv);
                     self.accept(sys, state, &d, dt);
-                    super::bolts::update_bolts(sys, state);
+                    self.update_bolts(sys, state);
                     let (contacts, max_penetration, friction, springs) = match self.contacts.as_mut() {
                         Some(c) => {
                             let friction = c.accept();
