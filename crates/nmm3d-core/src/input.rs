@@ -27,10 +27,13 @@ pub fn from_json_str(text: &str, label: &str, overrides: &[String]) -> Result<Sc
 
 fn checked(s: Scenario, label: &str) -> Result<Scenario> {
     let mut problems = scenario::problems(&s);
-    problems.extend(shape_problems(&s));
+    // Shapes are judged where the model is cut: in its local frame (far from the origin, a
+    // solid's round-off would be judged instead).
+    let local = s.shifted(s.local_origin());
+    problems.extend(shape_problems(&local));
     if problems.is_empty() {
         // Only a scenario whose every value is valid can be costed.
-        problems.extend(estimate::problems(&s));
+        problems.extend(estimate::problems(&local));
     }
     if problems.is_empty() {
         Ok(s)

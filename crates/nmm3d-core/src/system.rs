@@ -59,6 +59,8 @@ impl System {
     pub fn build(scenario: Scenario, label: &str) -> Result<Self> {
         let t = Instant::now();
         let geometry = Geometry::from_scenario(&scenario);
+        // Everything else in the blocks' local frame too (points, regions, the cover's origin).
+        let scenario = scenario.shifted(geometry.origin.into());
         let bb = geometry.aabb();
         let ext = bb.extent();
         let size = crate::model::estimate::cover_size(&scenario.cover, ext);

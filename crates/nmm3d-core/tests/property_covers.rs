@@ -36,6 +36,7 @@ fn geometry(pieces: Vec<ConvexPolyhedron>) -> Geometry {
         materials: vec![mat],
         features: Vec::new(),
         report: Default::default(),
+        origin: Vec3::zeros(),
     }
 }
 

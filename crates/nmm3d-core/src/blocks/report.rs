@@ -46,7 +46,7 @@ pub fn cover_report(scenario: &Scenario) -> Value {
     let c = &scenario.cover;
     let ext = geometry.aabb().extent();
     let size = crate::model::estimate::cover_size(c, ext);
-    let mesh = crate::cover::MathMesh::new(size, nmm3d_geom::Vec3::from(c.origin), c.rotation);
+    let mesh = crate::cover::MathMesh::new(size, nmm3d_geom::Vec3::from(c.origin) - geometry.origin, c.rotation);
     let covers = crate::cover::Covers::build(&geometry, mesh, crate::cover::PatternTable::new(c.pattern));
     json!({
         "blocks": geometry.blocks.len(),
@@ -65,9 +65,9 @@ pub fn table(scenario: &Scenario) -> Value {
         "id": (0..g.blocks.len()).collect::<Vec<_>>(),
         "body": col(&|b| json!(scenario.body[b.body].name)),
         "volume": col(&|b| json!(b.volume)),
-        "centroid_x": col(&|b| json!(b.centroid.x)),
-        "centroid_y": col(&|b| json!(b.centroid.y)),
-        "centroid_z": col(&|b| json!(b.centroid.z)),
+        "centroid_x": col(&|b| json!(b.centroid.x + g.origin.x)),
+        "centroid_y": col(&|b| json!(b.centroid.y + g.origin.y)),
+        "centroid_z": col(&|b| json!(b.centroid.z + g.origin.z)),
         "fixed": col(&|b| json!(b.fixed)),
     })
 }

@@ -31,6 +31,9 @@ pub fn surfaces(scenario: &Scenario) -> Value {
     }
     let bounds = g.aabb();
     let all = boundary_faces(&g.blocks);
+    // Positions in the scenario's coordinates (the blocks are in a local frame).
+    let o = g.origin;
+    let xyz = |v: Vec3| [v.x + o.x, v.y + o.y, v.z + o.z];
     let faces: Vec<Value> = all
         .iter()
         .map(|s| {
@@ -40,7 +43,7 @@ pub fn surfaces(scenario: &Scenario) -> Value {
             json!({
                 "block": s.block, "kind": kind, "index": index, "joint": joint, "partner": partner,
                 "normal": [s.normal.x, s.normal.y, s.normal.z], "area": s.area, "touching": touching,
-                "vertices": s.face.vertices.iter().map(|v| [v.x, v.y, v.z]).collect::<Vec<_>>(),
+                "vertices": s.face.vertices.iter().map(|v| xyz(*v)).collect::<Vec<_>>(),
             })
         })
         .collect();
@@ -51,7 +54,7 @@ pub fn surfaces(scenario: &Scenario) -> Value {
             json!({
                 "body": scenario.body[b.body].name, "fixed": b.fixed, "volume": b.volume,
                 "density": scenario.material[b.material].density,
-                "centroid": [b.centroid.x, b.centroid.y, b.centroid.z],
+                "centroid": xyz(b.centroid),
             })
         })
         .collect();
@@ -61,7 +64,7 @@ pub fn surfaces(scenario: &Scenario) -> Value {
         .map(|f| json!({ "normal": [f.normal.x, f.normal.y, f.normal.z], "set": f.spacing.is_some() }))
         .collect();
     let tol = 1e-9 * bounds.diagonal();
-    let holding = |x: [f64; 3]| g.blocks.iter().position(|b| b.contains(&Vec3::from(x), tol));
+    let holding = |x: [f64; 3]| g.blocks.iter().position(|b| b.contains(&(Vec3::from(x) - o), tol));
     let bolts: Vec<Value> = scenario
         .bolt
         .iter()
@@ -69,7 +72,7 @@ pub fn surfaces(scenario: &Scenario) -> Value {
         .collect();
     json!({
         "blocks": blocks, "faces": faces, "features": features, "bolts": bolts,
-        "bounds": { "min": [bounds.min.x, bounds.min.y, bounds.min.z], "max": [bounds.max.x, bounds.max.y, bounds.max.z] },
+        "bounds": { "min": xyz(bounds.min), "max": xyz(bounds.max) },
     })
 }
 

@@ -21,8 +21,12 @@ pub struct MathMesh {
 
 impl MathMesh {
     /// Mesh with the rotation given as angles about x, then y, then z [deg].
+    /// The origin is moved by whole cells to the node nearest the frame's origin (the same
+    /// mesh): cell coordinates then stay small near the model, whose frame is local.
     pub fn new(size: f64, origin: Vec3, rotation_deg: [f64; 3]) -> Self {
-        Self { size, origin, rotation: rotation_xyz_deg(rotation_deg) }
+        let rotation = rotation_xyz_deg(rotation_deg);
+        let cells = (rotation.transpose() * origin / size).map(f64::round);
+        Self { size, origin: origin - size * (rotation * cells), rotation }
     }
 
     /// Mesh-local coordinates (cell units) of a global point.

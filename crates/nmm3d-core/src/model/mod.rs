@@ -27,11 +27,22 @@ pub struct Geometry {
     pub features: Vec<cutting::JointFeature>,
     /// What cutting did.
     pub report: cutting::CutReport,
+    /// Origin of the local frame the blocks are in [m] (`Scenario::local_origin`): a block
+    /// point x is at x + origin in the scenario's coordinates.
+    pub origin: Vec3,
 }
 
 impl Geometry {
-    /// Build blocks from a validated scenario: bodies, then joints, then excavations.
+    /// Build blocks from a validated scenario: bodies, then joints, then excavations — in the
+    /// scenario's local frame (`Scenario::local_origin`; the identity near the origin).
     pub fn from_scenario(s: &Scenario) -> Self {
+        let origin = s.local_origin();
+        let mut g = Self::cut(&s.shifted(origin));
+        g.origin = Vec3::from(origin);
+        g
+    }
+
+    fn cut(s: &Scenario) -> Self {
         let materials: Vec<Elastic> = s.material.iter().map(Elastic::new).collect();
         let initial = s
             .body
@@ -51,7 +62,7 @@ impl Geometry {
                 block
             })
             .collect();
-        Self { blocks, materials, features: cutting::joint_features(s), report }
+        Self { blocks, materials, features: cutting::joint_features(s), report, origin: Vec3::zeros() }
     }
 
     /// Bounding box of all blocks.

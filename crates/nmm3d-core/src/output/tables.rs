@@ -22,16 +22,9 @@ pub fn write_block_rows(
     let mut s = String::from("id,body,volume,centroid_x,centroid_y,centroid_z,fixed\n");
     for (i, b) in geometry.blocks.iter().enumerate() {
         let body = &scenario.body[b.body].name;
-        let _ = writeln!(
-            s,
-            "{i},{},{},{},{},{},{}",
-            csv_text(body),
-            b.volume,
-            b.centroid.x,
-            b.centroid.y,
-            b.centroid.z,
-            b.fixed
-        );
+        let centroid = b.centroid + geometry.origin;
+        let _ =
+            writeln!(s, "{i},{},{},{},{},{},{}", csv_text(body), b.volume, centroid.x, centroid.y, centroid.z, b.fixed);
     }
     atomic::write(&dir.join("blocks.csv"), s.as_bytes())
 }

@@ -190,10 +190,12 @@ pub fn write_frame(sys: &System, state: &State, path: &Path) -> Result<()> {
         let key = |xi: &Vec3| point_key(me.block, &sys.covers.mesh.to_global(&(corner + xi)), quantum);
         let sigma = stress_components(&corotation::element_stress(sys, state, e));
         for part in &me.parts {
-            for xi in &cells.push(part, key, |xi| interpolate(xi, &|c| state.position(sys, c))) {
+            // Positions in the scenario's coordinates (the model runs in a local frame).
+            let o = sys.geometry.origin;
+            for xi in &cells.push(part, key, |xi| interpolate(xi, &|c| state.position(sys, c)) + o) {
                 disp.push(interpolate(xi, &|c| state.u[c]));
                 vel.push(interpolate(xi, &|c| state.v[c]));
-                reference.push(interpolate(xi, &|c| sys.covers.covers[c].position));
+                reference.push(interpolate(xi, &|c| sys.covers.covers[c].position) + o);
             }
             block_id.push(me.block as i64);
             element_id.push(e as i64);
@@ -217,7 +219,7 @@ pub fn write_frame(sys: &System, state: &State, path: &Path) -> Result<()> {
 
 /// Write the contact points of a frame (forces on A, the block of higher index).
 pub fn write_contacts(sys: &System, state: &State, records: &[ContactRecord], path: &Path) -> Result<()> {
-    let points: Vec<Vec3> = records.iter().map(|r| r.a.position(sys, state)).collect();
+    let points: Vec<Vec3> = records.iter().map(|r| r.a.position(sys, state) + sys.geometry.origin).collect();
     let normal: Vec<Vec3> = records.iter().map(|r| r.normal).collect();
     let normal_force: Vec<f64> = records.iter().map(|r| r.normal.dot(&r.force)).collect();
     let shear: Vec<Vec3> = records.iter().map(|r| r.force - r.normal * r.normal.dot(&r.force)).collect();
@@ -265,7 +267,7 @@ pub fn write_blocks(geometry: &crate::model::Geometry, path: &Path) -> Result<()
     for (i, b) in geometry.blocks.iter().enumerate() {
         for piece in &b.pieces {
             let quantum = POINT_QUANTUM * piece.aabb().diagonal();
-            let _ = cells.push(piece, |x| point_key(i, x, quantum), |x| *x);
+            let _ = cells.push(piece, |x| point_key(i, x, quantum), |x| x + geometry.origin);
             ids.push(i as i64);
             bodies.push(b.body as i64);
             vols.push(b.volume);

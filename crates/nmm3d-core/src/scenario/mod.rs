@@ -3,6 +3,7 @@
 
 mod overrides;
 pub mod schema;
+mod shift;
 mod validate;
 
 use std::path::Path;

@@ -39,7 +39,6 @@ impl Stepper {
     }
 }
 
-
 /// Tension [N] (0 once broken) and elongation [m] of each bolt, in the order of its history
 /// columns.
 pub fn bolt_values(sys: &System, state: &State) -> Vec<f64> {
