@@ -15,8 +15,13 @@ impl ConvexPolyhedron {
     /// The part on the inside of `plane` ($\mathbf n\cdot\mathbf x \le d$), with the new face
     /// tagged `tag`; `None` if that part has no volume.
     pub fn clip(&self, plane: &Plane, tag: FaceTag) -> Option<ConvexPolyhedron> {
+        self.clip_within(plane, tag, CLIP_TOLERANCE * self.aabb().diagonal())
+    }
+
+    /// [`Self::clip`] with vertices within `eps` of the plane taken as on it (a caller that
+    /// knows its scale snaps what lies closer: no sliver thinner than `eps` is cut off).
+    pub fn clip_within(&self, plane: &Plane, tag: FaceTag, eps: f64) -> Option<ConvexPolyhedron> {
         let diag = self.aabb().diagonal();
-        let eps = CLIP_TOLERANCE * diag;
         let dist = |v: &Vec3| plane.signed_distance(v);
         let all: Vec<f64> = self.faces.iter().flat_map(|f| f.vertices.iter().map(dist)).collect();
         if all.iter().all(|&s| s <= eps) {

@@ -19,6 +19,12 @@ use super::pattern::{parity, PatternTable, CELL_TAG};
 use super::physical_cover::PhysicalCover;
 use super::poly::{self, TERMS};
 use crate::model::cutting::faces_touch;
+
+/// A block face within this fraction of a cell of a cell plane is taken as on it: no manifold
+/// element thinner than that is cut off (a face meant to lie on a mesh plane, given at survey
+/// coordinates or computed, misses it by round-off; a 10⁻¹⁰-thin sliver ME made the
+/// initial equilibrium of the incline wander).
+const SNAP: f64 = 1e-9;
 use crate::model::union_find::UnionFind;
 use crate::model::{tags, Block, Geometry};
 
@@ -147,7 +153,7 @@ fn block_elements(
             .collect();
         let bb = local.aabb();
         let eps = FULL_CELL_TOLERANCE * bb.diagonal();
-        let on = CLIP_TOLERANCE * bb.diagonal();
+        let on = (CLIP_TOLERANCE * bb.diagonal()).max(SNAP);
         let (lo, hi) = (mesh.cell_of(&bb.min), mesh.cell_of(&bb.max));
         for k in lo[2]..=hi[2] {
             for j in lo[1]..=hi[1] {
@@ -264,7 +270,7 @@ fn clip_to_subcell(local_piece: &ConvexPolyhedron, sub: &super::pattern::SubCell
     let mut g = local_piece.clone();
     for (k, p) in sub.planes.iter().enumerate() {
         let shifted = nmm3d_geom::Plane { normal: p.normal, offset: p.offset + p.normal.dot(&c) };
-        g = g.clip(&shifted, FaceTag(CELL_TAG + k as u32))?;
+        g = g.clip_within(&shifted, FaceTag(CELL_TAG + k as u32), SNAP)?;
     }
     Some(g.map(|x| x - c))
 }
