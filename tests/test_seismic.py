@@ -108,3 +108,29 @@ def test_a_series_of_velocities_is_the_pulse(tmp_path):
                                "values": [[0.0, 0.0, 0.0], [v, 0.0, 0.0], [v, 0.0, 0.0]]}}
     r = nmm3d.Scenario.from_dict(d).run(out=tmp_path / "run")
     assert -r.history["block.displacement.x"][-1] == pytest.approx(analytic.newmark_pulse(v, N, 0.5, G), rel=0.02)
+
+
+def test_a_recorded_motion_from_a_csv_file(tmp_path):
+    """The pulse as a CSV velocity record in g·s (scale = 9.81), next to the scenario file."""
+    v = 0.5 * 0.2  # V / g
+    (tmp_path / "motion.csv").write_text(f"time,vx,vy,vz\n0.0,0,0,0\n0.2,{v},0,0\n2.0,{v},0,0\n")
+    pulse = "pulse = [{ acceleration = [4.905, 0.0, 0.0], start = 0.0, duration = 0.2 }]"
+    text = NEWMARK.read_text()
+    assert pulse in text
+    record = 'series = { quantity = "velocity", file = "motion.csv", scale = 9.81 }'
+    (tmp_path / "shaken.toml").write_text(text.replace(pulse, record))
+    loaded = nmm3d.load(tmp_path / "shaken.toml")
+    assert loaded.to_dict()["seismic"]["series"]["values"][1] == pytest.approx([v * G, 0.0, 0.0])
+    r = loaded.run(out=tmp_path / "run")
+    exact = analytic.newmark_pulse(v * G, N, 0.5, G)
+    assert -r.history["block.displacement.x"][-1] == pytest.approx(exact, rel=0.02)
+
+
+@pytest.mark.parametrize("content, message", [(None, "cannot read"), ("0,1,2\n", "line 1")])
+def test_a_bad_record_file_is_named(tmp_path, content, message):
+    if content is not None:
+        (tmp_path / "motion.csv").write_text(content)
+    d = nmm3d.load(NEWMARK).to_dict()
+    d["seismic"] = {"series": {"quantity": "acceleration", "file": str(tmp_path / "motion.csv")}}
+    with pytest.raises(nmm3d.ScenarioError, match=f"seismic.series.file.*{message}"):
+        nmm3d.Scenario.from_dict(d)

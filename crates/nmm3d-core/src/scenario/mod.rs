@@ -2,6 +2,7 @@
 //! `crate::input` loads a scenario whole: parsed here, checked here and by the model (shapes).
 
 mod overrides;
+mod records;
 pub mod schema;
 mod shift;
 mod validate;
@@ -22,7 +23,8 @@ pub fn read_file(path: &Path, overrides: &[String]) -> Result<Scenario> {
     }
     let text = std::fs::read_to_string(path)
         .map_err(|e| Error::input(&label, "<file>", format!("cannot read the file: {e}")))?;
-    parse_toml(&text, &label, overrides)
+    let base = path.parent().unwrap_or(Path::new("."));
+    records::read_records(parse_toml(&text, &label, overrides)?, base, &label)
 }
 
 /// Parse TOML text (`label` names the source in messages) and apply the overrides (not
@@ -45,7 +47,7 @@ pub fn parse_json(text: &str, label: &str, overrides: &[String]) -> Result<Scena
         serde_json::from_str(text).map_err(|e| Error::input(label, "<json>", e.to_string()))?;
     drop_nulls(&mut json);
     let toml_text = toml::to_string(&json).map_err(|e| Error::input(label, "<dict>", e.to_string()))?;
-    parse_toml(&toml_text, label, overrides)
+    records::read_records(parse_toml(&toml_text, label, overrides)?, Path::new("."), label)
 }
 
 /// `null` means "absent" (TOML has no null).

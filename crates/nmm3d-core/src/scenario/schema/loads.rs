@@ -187,9 +187,22 @@ pub struct Series {
     /// What the values are.
     pub quantity: SeriesQuantity,
     /// Sample times [s], increasing.
+    #[serde(default)]
     pub time: Vec<f64>,
     /// One [x, y, z] value per sample.
+    #[serde(default)]
     pub values: Vec<[f64; 3]>,
+    /// A CSV file of `time, x, y, z` rows (a header line is skipped), relative to the scenario
+    /// file; read into `time` and `values` when the scenario is loaded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub file: Option<String>,
+    /// Factor on the file's values (e.g. 9.81 for a record in g).
+    #[serde(default = "unit_scale")]
+    pub scale: f64,
+}
+
+fn unit_scale() -> f64 {
+    1.0
 }
 
 impl Seismic {
@@ -277,7 +290,7 @@ mod tests {
 
     fn series(quantity: SeriesQuantity, time: Vec<f64>, x: Vec<f64>) -> Seismic {
         let values = x.iter().map(|&v| [v, 0.0, 0.0]).collect();
-        Seismic { series: Some(Series { quantity, time, values }), ..Default::default() }
+        Seismic { series: Some(Series { quantity, time, values, file: None, scale: 1.0 }), ..Default::default() }
     }
 
     #[test]

@@ -1,0 +1,47 @@
+//! Records a scenario names by file (a base-motion CSV) are read when it is loaded, into the
+//! scenario itself: `check` and `run` then see the same numbers, and a run's checkpoint holds
+//! them.
+
+use std::path::Path;
+
+use super::schema::Scenario;
+use crate::error::{Error, Result};
+
+/// Read `[seismic.series] file` (relative to `base`) into its `time` and `values`, and apply
+/// `scale` (then 1: loading the loaded scenario again changes nothing).
+pub fn read_records(mut s: Scenario, base: &Path, label: &str) -> Result<Scenario> {
+    let Some(series) = s.seismic.series.as_mut() else { return Ok(s) };
+    if let Some(file) = series.file.take() {
+        read_csv(series, base, &file, label)?;
+    }
+    let scale = std::mem::replace(&mut series.scale, 1.0);
+    series.values.iter_mut().for_each(|v| *v = v.map(|x| x * scale));
+    Ok(s)
+}
+
+fn read_csv(series: &mut super::schema::Series, base: &Path, file: &str, label: &str) -> Result<()> {
+    let key = "seismic.series.file";
+    if !series.time.is_empty() || !series.values.is_empty() {
+        return Err(Error::input(label, key, "give the record either as a file or as time and values, not both"));
+    }
+    let path = base.join(file);
+    let text =
+        std::fs::read_to_string(&path).map_err(|e| Error::input(label, key, format!("cannot read {file}: {e}")))?;
+    for (k, line) in text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty()) {
+        let cells: Vec<&str> = line.split(',').map(str::trim).collect();
+        let numbers: Option<Vec<f64>> = cells.iter().map(|c| c.parse().ok()).collect();
+        match numbers {
+            Some(v) if v.len() == 4 => {
+                series.time.push(v[0]);
+                series.values.push([v[1], v[2], v[3]]);
+            }
+            // A header line.
+            None if k == 0 => {}
+            _ => {
+                let why = format!("{file}, line {}: expected four numbers `time, x, y, z`, got `{line}`", k + 1);
+                return Err(Error::input(label, key, why));
+            }
+        }
+    }
+    Ok(())
+}
