@@ -9,6 +9,7 @@ mod validate;
 
 use std::path::Path;
 
+pub use records::read_records;
 pub use schema::*;
 pub use validate::problems;
 

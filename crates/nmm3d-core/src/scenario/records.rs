@@ -1,6 +1,6 @@
-//! Records a scenario names by file (a base-motion CSV) are read when it is loaded, into the
-//! scenario itself: `check` and `run` then see the same numbers, and a run's checkpoint holds
-//! them.
+//! What a scenario gives in short is spelled out when it is loaded, into the scenario itself —
+//! records named by file (a base-motion CSV), bolt patterns as bolts: `check` and `run` then
+//! see the same numbers, and a run's checkpoint holds them.
 
 use std::path::Path;
 
@@ -10,6 +10,7 @@ use crate::error::{Error, Result};
 /// Read `[seismic.series] file` (relative to `base`) into its `time` and `values`, and apply
 /// `scale` (then 1: loading the loaded scenario again changes nothing).
 pub fn read_records(mut s: Scenario, base: &Path, label: &str) -> Result<Scenario> {
+    expand_patterns(&mut s, label)?;
     let Some(series) = s.seismic.series.as_mut() else { return Ok(s) };
     if let Some(file) = series.file.take() {
         read_csv(series, base, &file, label)?;
@@ -17,6 +18,22 @@ pub fn read_records(mut s: Scenario, base: &Path, label: &str) -> Result<Scenari
     let scale = std::mem::replace(&mut series.scale, 1.0);
     series.values.iter_mut().for_each(|v| *v = v.map(|x| x * scale));
     Ok(s)
+}
+
+/// Each `[[bolt_pattern]]` becomes its bolts (the pattern leaves the scenario).
+fn expand_patterns(s: &mut Scenario, label: &str) -> Result<()> {
+    for p in std::mem::take(&mut s.bolt_pattern) {
+        let at = format!("bolt_pattern.{}", p.name);
+        if !(p.length > p.head_depth && p.head_depth > 0.0 && p.length.is_finite()) {
+            return Err(Error::input(label, format!("{at}.length"), "must exceed head_depth, which must be > 0"));
+        }
+        let bolts = p.bolts();
+        if bolts.is_empty() {
+            return Err(Error::input(label, at, "gives no bolt (a count of 0, or a zero direction)"));
+        }
+        s.bolt.extend(bolts);
+    }
+    Ok(())
 }
 
 fn read_csv(series: &mut super::schema::Series, base: &Path, file: &str, label: &str) -> Result<()> {

@@ -76,6 +76,9 @@ pub struct Scenario {
     /// Rock bolts (addition to v1).
     #[serde(default)]
     pub bolt: Vec<Bolt>,
+    /// Patterns of bolts, expanded into `bolt` on loading (addition to v1).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub bolt_pattern: Vec<BoltPattern>,
     /// A water table (addition to v1).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub water: Option<Water>,
