@@ -8,6 +8,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import nmm3d
@@ -134,3 +135,15 @@ def test_a_bad_record_file_is_named(tmp_path, content, message):
     d["seismic"] = {"series": {"quantity": "acceleration", "file": str(tmp_path / "motion.csv")}}
     with pytest.raises(nmm3d.ScenarioError, match=f"seismic.series.file.*{message}"):
         nmm3d.Scenario.from_dict(d)
+
+
+def test_the_base_motion_is_in_the_history(tmp_path):
+    """base.velocity / base.displacement: the pulse integrated — V = A g t₀, then
+    u = ½ A g t₀² + V (t − t₀); the block's absolute motion is the base's plus its own."""
+    r = run(tmp_path, NEWMARK)
+    t, a, t0 = r.history["time"], 0.5 * G, 0.2
+    v = a * np.minimum(t, t0)
+    u = np.where(t < t0, 0.5 * a * t**2, 0.5 * a * t0**2 + a * t0 * (t - t0))
+    assert np.allclose(r.history["base.velocity.x"], v, atol=1e-9)
+    assert np.allclose(r.history["base.displacement.x"], u, atol=1e-9)
+    assert np.all(r.history["base.velocity.z"] == 0.0)

@@ -282,7 +282,8 @@ const HISTORY_FLUSH_SECONDS: f64 = 10.0;
 impl Recorder {
     fn new(sys: &System, monitors: Vec<MonitorPlan>, out: &Path) -> Self {
         let bolts = sys.scenario.bolt.iter().flat_map(|b| b.columns());
-        let columns = monitors.iter().flat_map(|m| m.columns()).chain(bolts).collect();
+        let base = sys.scenario.seismic.columns();
+        let columns = monitors.iter().flat_map(|m| m.columns()).chain(bolts).chain(base).collect();
         Self {
             monitors,
             history: tables::History::new(columns),
@@ -310,6 +311,9 @@ impl Recorder {
         if first || a.history_interval.is_none() || state.time + eps >= self.next_history {
             let mut vals: Vec<f64> = self.monitors.iter().flat_map(|m| m.values(sys, state)).collect();
             vals.extend(crate::time::bolt_values(sys, state));
+            if sys.scenario.seismic.moves() {
+                vals.extend(state.base.iter().flat_map(|v| [v.x, v.y, v.z]));
+            }
             self.history.rows.push((state.time, state.step, vals));
             if let Some(h) = a.history_interval {
                 self.next_history = (state.time / h + 1e-9).floor() * h + h;

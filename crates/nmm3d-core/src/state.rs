@@ -27,6 +27,10 @@ pub struct State {
     /// Plastic elongation and rupture of each bolt.
     #[serde(default)]
     pub bolts: Vec<BoltState>,
+    /// Velocity and displacement of a shaking base (`[seismic]`), which the run's own
+    /// displacements are relative to [m/s, m].
+    #[serde(default)]
+    pub base: [Vec3; 2],
 }
 
 impl State {
@@ -56,6 +60,7 @@ impl State {
             v,
             rotations: vec![Mat3::identity(); sys.covers.elements.len()],
             bolts: vec![BoltState::default(); sys.bolts.len()],
+            base: [Vec3::zeros(); 2],
         }
     }
 

@@ -127,6 +127,9 @@ fn seismic(c: &mut Checker, s: &Scenario) {
             c.fail("seismic.series.time", "must increase strictly");
         }
     }
+    if q.moves() && s.monitor.iter().any(|m| m.name == "base") {
+        c.fail("monitor.base", "the name `base` is taken by the shaking base's history columns");
+    }
     if let Some(w) = &s.water {
         c.positive("water.density", w.density);
     }
@@ -408,6 +411,7 @@ fn expectations(c: &mut Checker, s: &Scenario) {
                 .flat_map(move |q| q.components().iter().map(move |k| format!("{}.{}.{k}", m.name, q.name())))
         })
         .chain(s.bolt.iter().flat_map(|b| b.columns()))
+        .chain(s.seismic.columns())
         .collect();
     for (i, e) in s.expect.iter().enumerate() {
         let p = format!("expect[{i}]");

@@ -272,6 +272,9 @@ impl Stepper {
             match verdict {
                 Verdict::Accept => {
                     let kinetic0 = kinetic_energy(sys, &state.v, &mv);
+                    if self.shaking(sys) {
+                        advance_base(sys, state, dt);
+                    }
                     self.accept(sys, state, &d, dt);
                     self.update_bolts(sys, state);
                     let (contacts, max_penetration, friction, springs) = match self.contacts.as_mut() {
@@ -491,6 +494,16 @@ fn jump_acceleration(sys: &System, state: &mut State) {
             }
         }
     }
+}
+
+/// The base's own velocity and displacement over an accepted step from `state.time`: the
+/// trapezoidal rule on its acceleration between the limits inside the step (exact where the
+/// acceleration is linear, which the steps ending at its jumps make it piecewise).
+fn advance_base(sys: &System, state: &mut State, dt: f64) {
+    let q = &sys.scenario.seismic;
+    let (a0, a1) = (Vec3::from(q.acceleration_after(state.time)), Vec3::from(q.acceleration_before(state.time + dt)));
+    let [v, u] = state.base;
+    state.base = [v + 0.5 * dt * (a0 + a1), u + dt * v + dt * dt / 6.0 * (2.0 * a0 + a1)];
 }
 
 /// `into += add`, when there is something to add.

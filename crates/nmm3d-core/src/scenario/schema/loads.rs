@@ -211,6 +211,14 @@ impl Seismic {
         !self.pulse.is_empty() || !self.sine.is_empty() || self.series.is_some()
     }
 
+    /// History columns of a moving base: `base.velocity.x` … `base.displacement.z`.
+    pub fn columns(&self) -> Vec<String> {
+        if !self.moves() {
+            return Vec::new();
+        }
+        ["velocity", "displacement"].iter().flat_map(|q| ["x", "y", "z"].map(|c| format!("base.{q}.{c}"))).collect()
+    }
+
     /// Base acceleration just before `t` (the left limit, where a pulse ends) [m/s²].
     pub fn acceleration_before(&self, t: f64) -> [f64; 3] {
         self.base_acceleration(t - jump_width(t))
