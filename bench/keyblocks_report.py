@@ -80,11 +80,23 @@ def studies(tmp: Path) -> list[str]:
         s = done[example]
         kb = nmm3d.keyblocks(ROOT / "examples" / example)
         b = kb.key_blocks()[0] if block is None else next(x for x in kb.blocks if x.id == block)
-        lo, hi = s["bracket"] if block is None else next(x for x in s["blocks"] if x["id"] == block)["bracket"]
+        bracket = s["bracket"] if block is None else next(x for x in s["blocks"] if x["id"] == block)["bracket"]
         le = b.mode.critical_friction_angle
-        lines.append(f"| `{example}` | {b.id} | {le:.3f} | [{lo:.2f}, {hi:.2f}] | {(lo + hi) / 2 - le:+.2f} |")
+        rotates = " (may rotate: the weight line leaves its base)" if b.rotation_warning else ""
+        if bracket is None or None in bracket:
+            unstable, stable = (bracket or [None, None])
+            verdict = (f"unstable at every angle tried, up to {unstable:g}°" if unstable is not None else
+                       f"stable at every angle tried, down to {stable:g}°" if stable is not None else "undetermined")
+            lines.append(f"| `{example}` | {b.id}{rotates} | {le:.3f} | {verdict} | – |")
+            continue
+        lo, hi = bracket
+        lines.append(f"| `{example}` | {b.id}{rotates} | {le:.3f} | [{lo:.2f}, {hi:.2f}] | {(lo + hi) / 2 - le:+.2f} |")
     return lines + ["", "The study's tolerance is the bracket's width; the NMM angle agrees with limit "
-                    "equilibrium to within it wherever translational theory applies.", ""]
+                    "equilibrium to within it wherever translational theory applies. Where the key-block "
+                    "analysis flags a block that may rotate (its weight line leaves the face it slides on), "
+                    "the NMM may find it failing at friction angles where translation alone would hold it: "
+                    "Goodman's roof block, hanging on one steep joint, comes out of the roof at every "
+                    "friction angle tried (the wall block, flagged too, does not).", ""]
 
 
 def main() -> None:

@@ -193,3 +193,12 @@ def test_cli_refuses_a_bad_free_side(tmp_path):
                        capture_output=True, text=True, timeout=300)
     assert p.returncode == 2
     assert "keyblocks.free_sides" in p.stderr
+
+
+def test_nothing_left_gives_an_empty_table(tmp_path):
+    d = {"material": [{"name": "r", "density": 2500.0, "young": 1e9, "poisson": 0.2}],
+         "body": [{"name": "b", "material": "r", "shape": {"box": {"min": [0, 0, 0], "max": [1, 1, 1]}}}],
+         "excavation": [{"shape": {"box": {"min": [-1, -1, -1], "max": [2, 2, 2]}}}]}
+    kb = nmm3d.keyblocks(nmm3d.Scenario.from_dict(d), out=tmp_path / "kb")
+    assert kb.blocks == [] and (tmp_path / "kb" / "keyblocks.csv").read_text().startswith("id,")
+    assert (tmp_path / "kb" / "keyblocks.png").exists()

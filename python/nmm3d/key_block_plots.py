@@ -65,6 +65,8 @@ def plot_blocks(result: "KeyBlocks", path: Path) -> Path:
 
 
 def _frame(ax, bounds) -> float:
+    if bounds is None:  # no block left (an excavation took everything)
+        return 1.0
     lo, hi = np.asarray(bounds["min"], float), np.asarray(bounds["max"], float)
     ax.set_xlim(lo[0], hi[0])
     ax.set_ylim(lo[1], hi[1])
