@@ -96,7 +96,7 @@ def studies(tmp: Path) -> list[str]:
                     "analysis flags a block that may rotate (its weight line leaves the face it slides on), "
                     "the NMM may find it failing at friction angles where translation alone would hold it: "
                     "Goodman's roof block, hanging on one steep joint, fails the study's criterion at every "
-                    "friction angle tried, turning as it moves (the wall block, flagged too, does not).", ""]
+                    "friction angle tried (the wall block, flagged too, does not).", ""]
 
 
 def main() -> None:

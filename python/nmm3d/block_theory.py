@@ -104,7 +104,7 @@ def failure_mode(planes: list[Plane], force: np.ndarray, support: np.ndarray | N
     if all(float(r @ n) <= tol for n in normals):
         held = max(0.0, -float(support @ r))
         return Mode(FALLING, r, driving_force=w, factor_of_safety=held / w, critical_friction_angle=90.0)
-    for i, p in enumerate(planes):
+    for i in range(len(planes)):
         m = _one_plane(planes, i, r, tol)
         if m is not None:
             return _scaled(planes, m, w, support)

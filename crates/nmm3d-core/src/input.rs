@@ -18,7 +18,7 @@ pub fn load_file(path: &Path, overrides: &[String]) -> Result<Scenario> {
 /// Parse TOML text (`label` names the source in messages), apply overrides, validate.
 pub fn from_toml_str(text: &str, label: &str, overrides: &[String]) -> Result<Scenario> {
     let s = scenario::parse_toml(text, label, overrides)?;
-    checked(scenario::read_records(s, Path::new("."), label)?, label)
+    checked(scenario::spell_out(s, Path::new("."), label)?, label)
 }
 
 /// Parse a JSON document (from Python dictionaries), apply overrides, validate.

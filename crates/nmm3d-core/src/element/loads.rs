@@ -62,8 +62,7 @@ pub fn hydrostatic_forces(
     let h_corner = up.dot(&mesh.to_global(&cell_corner(e.cell)));
     let rz = r.transpose() * up * sz; // h(ξ) = h_corner + rz·ξ
                                       // Below the table: rz·ξ ≤ table − h_corner.
-    let wet = nmm3d_geom::Plane::from_point_normal(Vec3::zeros(), rz)?;
-    let wet = nmm3d_geom::Plane { offset: (table - h_corner) / rz.norm(), ..wet };
+    let wet = nmm3d_geom::Plane::from_coefficients([rz.x, rz.y, rz.z, table - h_corner])?;
     let pressure = Poly::affine(unit_weight * (table - h_corner), -unit_weight * rz);
     let exps = poly::all_exponents();
     let weights = covers.weights(e);

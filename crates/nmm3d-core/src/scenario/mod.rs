@@ -9,7 +9,7 @@ mod validate;
 
 use std::path::Path;
 
-pub use records::read_records;
+pub use records::spell_out;
 pub use schema::*;
 pub use validate::problems;
 
@@ -25,7 +25,7 @@ pub fn read_file(path: &Path, overrides: &[String]) -> Result<Scenario> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| Error::input(&label, "<file>", format!("cannot read the file: {e}")))?;
     let base = path.parent().unwrap_or(Path::new("."));
-    records::read_records(parse_toml(&text, &label, overrides)?, base, &label)
+    records::spell_out(parse_toml(&text, &label, overrides)?, base, &label)
 }
 
 /// Parse TOML text (`label` names the source in messages) and apply the overrides (not
@@ -48,7 +48,7 @@ pub fn parse_json(text: &str, label: &str, overrides: &[String]) -> Result<Scena
         serde_json::from_str(text).map_err(|e| Error::input(label, "<json>", e.to_string()))?;
     drop_nulls(&mut json);
     let toml_text = toml::to_string(&json).map_err(|e| Error::input(label, "<dict>", e.to_string()))?;
-    records::read_records(parse_toml(&toml_text, label, overrides)?, Path::new("."), label)
+    records::spell_out(parse_toml(&toml_text, label, overrides)?, Path::new("."), label)
 }
 
 /// `null` means "absent" (TOML has no null).

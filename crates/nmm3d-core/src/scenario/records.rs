@@ -9,7 +9,7 @@ use crate::error::{Error, Result};
 
 /// Read `[seismic.series] file` (relative to `base`) into its `time` and `values`, and apply
 /// `scale` (then 1: loading the loaded scenario again changes nothing).
-pub fn read_records(mut s: Scenario, base: &Path, label: &str) -> Result<Scenario> {
+pub fn spell_out(mut s: Scenario, base: &Path, label: &str) -> Result<Scenario> {
     expand_patterns(&mut s, label)?;
     let Some(series) = s.seismic.series.as_mut() else { return Ok(s) };
     if let Some(file) = series.file.take() {
