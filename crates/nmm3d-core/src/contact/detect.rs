@@ -14,7 +14,7 @@ use nmm3d_geom::{ConvexPolyhedron, Vec3};
 use super::broad::Warning;
 use super::facets::{self, Candidate};
 use super::point::MaterialPoint;
-use super::record::{ContactParams, ContactRecord};
+use super::record::{ContactParams, ContactRecord, ContactState};
 use super::set::{ContactSet, ContactTimes};
 use super::surface::ContactPiece;
 use super::transfer::inherit;
@@ -94,6 +94,25 @@ impl ContactSet {
             }
         }
         self.times.detection += clock.elapsed().as_secs_f64();
+    }
+}
+
+impl ContactSet {
+    /// The same points as after the last step, at the current positions, without detecting
+    /// again: each keeps its normal, state, springs and bond; its gap is re-measured between
+    /// its material points. For steps that move the blocks far less than the contact
+    /// tolerance (the locked initial equilibrium), where a new detection would only make
+    /// points at the edge of a face come and go with round-off — each arrival inheriting its
+    /// neighbour's springs — and the static iteration would never settle.
+    pub fn refresh(&mut self, sys: &System, state: &State) {
+        for r in &mut self.records {
+            let gap = r.normal.dot(&(r.a.position(sys, state) - r.b.position(sys, state))) - r.offset;
+            (r.gap0, r.gap, r.reclosed, r.opened) = (gap, gap, 0, false);
+            if r.state != ContactState::Slide {
+                r.rel = Vec3::zeros();
+            }
+            r.limit = r.strength.tan_phi * (r.normal.dot(&r.preload) - r.kn * gap).max(0.0) + r.strength.cohesion;
+        }
     }
 }
 

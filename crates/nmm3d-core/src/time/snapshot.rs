@@ -85,6 +85,8 @@ impl Stepper {
             times: PhaseTimes::default(),
             energy: s.energy,
             cuts: Vec::new(),
+            // Snapshots are taken between steps of a run, never inside the locked iterations.
+            undetected: f64::INFINITY,
         })
     }
 }
