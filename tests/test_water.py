@@ -25,7 +25,11 @@ def sliding_acceleration(tmp_path, *overrides) -> float:
 
 
 @pytest.mark.parametrize("table, submerged", [
-    (5.0, 1.0),
+    pytest.param(5.0, 1.0, marks=pytest.mark.xfail(strict=True, reason=(
+        "the pressure is a dead load on the reference faces: 50 kPa pushing on opposite faces "
+        "makes a couple that grows with any turn of the sliding block about the plane's normal "
+        "(elastic energy and sideways velocity grow tenfold every 0.2 s; after 0.8 s the slide "
+        "is off by 2 %); hydrostatic pressure has to follow the faces (issue: support and loading)"))),
     # The table 0.4 m above the cube's lowest edge (z = −0.25): the wet part is a prism of
     # cross-section ½ h (h cot 30° + h cot 60°) = 2h²/√3.
     (0.15, 2 * 0.4**2 / math.sqrt(3)),

@@ -100,10 +100,9 @@ impl ContactSet {
 impl ContactSet {
     /// The same points as after the last step, at the current positions, without detecting
     /// again: each keeps its normal, state, springs and bond; its gap is re-measured between
-    /// its material points. For steps that move the blocks far less than the contact
-    /// tolerance (the locked initial equilibrium), where a new detection would only make
-    /// points at the edge of a face come and go with round-off — each arrival inheriting its
-    /// neighbour's springs — and the static iteration would never settle.
+    /// its material points. For steps after which no point has moved by the contact tolerance
+    /// since the last detection, where a new detection would only make points at the edge of a
+    /// face come and go with round-off — each arrival inheriting its neighbour's springs.
     pub fn refresh(&mut self, sys: &System, state: &State) {
         for r in &mut self.records {
             let gap = r.normal.dot(&(r.a.position(sys, state) - r.b.position(sys, state))) - r.offset;

@@ -39,6 +39,14 @@ pub struct StepperSnapshot {
     pub penalty_raises: u32,
     /// Energy accounts so far.
     pub energy: Option<Energy>,
+    /// Largest displacement summed over the steps since the last contact detection [m]; a
+    /// checkpoint without it detects at its first step.
+    #[serde(default = "never_detected")]
+    pub undetected: f64,
+}
+
+fn never_detected() -> f64 {
+    f64::MAX
 }
 
 impl Stepper {
@@ -54,6 +62,8 @@ impl Stepper {
             penetration_cuts: self.penetration_cuts,
             penalty_raises: self.penalty_raises,
             energy: self.energy,
+            // Finite: JSON has no infinity.
+            undetected: self.undetected.min(f64::MAX),
         }
     }
 
@@ -85,8 +95,7 @@ impl Stepper {
             times: PhaseTimes::default(),
             energy: s.energy,
             cuts: Vec::new(),
-            // Snapshots are taken between steps of a run, never inside the locked iterations.
-            undetected: f64::INFINITY,
+            undetected: s.undetected,
         })
     }
 }

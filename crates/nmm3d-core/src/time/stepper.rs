@@ -186,9 +186,12 @@ impl Stepper {
     pub fn step(&mut self, sys: &System, state: &mut State, dt_cap: f64) -> Result<StepReport> {
         // Contacts first: a new contact may change the pattern the tangent is assembled into.
         if let Some(c) = self.contacts.as_mut() {
-            // The static iterations of the locked initial equilibrium move the blocks by far
-            // less than the contact tolerance: they keep their points (see `refresh`).
-            if self.locked && !self.inertia && self.undetected < c.params.tolerance {
+            // Since the last detection no point has moved by the contact tolerance, so no pair
+            // apart by more than the detection margin (twice the tolerance) can touch: the same
+            // points are kept (`refresh`). Detecting again would only make points at the edge of
+            // a face come and go with round-off, each arrival inheriting its neighbour's springs
+            // — energy from nowhere, and a static iteration that never settles.
+            if self.undetected < c.params.tolerance {
                 c.refresh(sys, state);
             } else {
                 c.detect(sys, state, false);
@@ -209,6 +212,9 @@ impl Stepper {
         let unbalanced = self.unbalanced_ratio(sys, &start_force);
         let (mv, ma) = (mass_times(sys, &state.v), mass_times(sys, &state.a));
         let mut start_records = self.contacts.as_ref().map(|c| c.records.clone());
+        // The springs' energy at the start: the first step's is part of the initial energy
+        // (springs loaded by the initial equilibrium or by overlapping input).
+        let springs0 = self.contacts.as_ref().map_or(0.0, ContactSet::spring_energy);
         self.times.assembly += t.elapsed().as_secs_f64();
         let analysis = &sys.scenario.analysis;
         let mut dt = state.dt.min(dt_cap);
@@ -309,7 +315,7 @@ impl Stepper {
                             m_a0,
                             kinetic0,
                             friction,
-                            springs,
+                            springs: (springs0, springs),
                         },
                     );
                     return Ok(StepReport {
@@ -385,12 +391,12 @@ impl Stepper {
             kinetic,
             elastic,
             external_work,
-            contact: s.springs,
+            contact: s.springs.1,
             friction: s.friction,
             numerical: inertial - (kinetic - s.kinetic0),
             initial: 0.0,
         };
-        let energy = self.energy.get_or_insert_with(|| Energy::start(s.kinetic0, 0.0));
+        let energy = self.energy.get_or_insert_with(|| Energy::start(s.kinetic0, s.springs.0));
         energy.add(&step);
         *energy
     }
@@ -533,5 +539,6 @@ struct Increment<'a> {
     m_a0: &'a [Vec3],
     kinetic0: f64,
     friction: f64,
-    springs: f64,
+    /// Contact spring energy at the start and the end of the step [J].
+    springs: (f64, f64),
 }
