@@ -16,6 +16,19 @@ use crate::error::{Error, Result};
 use crate::model::Geometry;
 use crate::scenario::{Scenario, Stiffness};
 
+/// Hydrostatic water pressure p = γ_w (table − up·x) on the wet boundary faces.
+#[derive(Debug, Clone)]
+pub struct WaterLoad {
+    /// Height of the water table along `up` [m].
+    pub table: f64,
+    /// Unit vector against gravity.
+    pub up: Vec3,
+    /// γ_w = ρ_w g [N/m³].
+    pub unit_weight: f64,
+    /// MEs of the movable blocks with a boundary face.
+    pub elements: Vec<usize>,
+}
+
 /// Everything that does not change during a run.
 pub struct System {
     /// The validated scenario.
@@ -40,6 +53,8 @@ pub struct System {
     pub mass_values: Vec<f64>,
     /// External dead load per cover [N] (gravity with the pseudo-static seismic coefficient).
     pub external: Vec<Vec3>,
+    /// Hydrostatic water pressure (`[water]`), applied on the current faces each step.
+    pub water: Option<WaterLoad>,
     /// Mass per cover, ρ ∫ w dV [kg]: the load of a unit uniform acceleration (a base motion).
     pub cover_mass: Vec<f64>,
     /// Penalty points.
@@ -89,6 +104,7 @@ impl System {
         };
         let mut sys = Self {
             external: vec![Vec3::zeros(); covers.covers.len()],
+            water: None,
             cover_mass: vec![0.0; covers.covers.len()],
             constraints: Vec::new(),
             bolts,
@@ -208,16 +224,16 @@ impl System {
     }
 
     /// Hydrostatic pressure below the water table (height along `table.1`, against gravity) on
-    /// the boundary faces of the movable blocks
-    /// (the fixed ones cannot move: their forces would go nowhere).
-    fn add_water(&mut self, table: (f64, Vec3), unit_weight: f64) {
-        for me in self.covers.elements.iter().filter(|me| !self.geometry.blocks[me.block].fixed) {
-            if let Some(f) = loads::hydrostatic_forces(&self.covers, me, table, unit_weight) {
-                for (a, &c) in me.covers.iter().enumerate() {
-                    self.external[c] += f[a];
-                }
-            }
-        }
+    /// the boundary faces of the movable blocks (the fixed ones cannot move: their forces would
+    /// go nowhere). A follower load: the stepper puts it on the faces as they have moved.
+    fn add_water(&mut self, (table, up): (f64, Vec3), unit_weight: f64) {
+        let elements = (0..self.covers.elements.len())
+            .filter(|&e| {
+                let me = &self.covers.elements[e];
+                !self.geometry.blocks[me.block].fixed && me.boundary_faces().next().is_some()
+            })
+            .collect();
+        self.water = Some(WaterLoad { table, up, unit_weight, elements });
     }
 
     fn add_constraints(&mut self, label: &str) -> Result<()> {

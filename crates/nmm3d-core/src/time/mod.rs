@@ -13,6 +13,7 @@ pub mod snapshot;
 pub mod step_control;
 pub mod stepper;
 mod vectors;
+mod water;
 
 pub use bolts::bolt_values;
 pub use cut::{Cut, CutReason};

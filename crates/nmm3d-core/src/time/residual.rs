@@ -13,10 +13,13 @@ use crate::system::System;
 const ELEMENT_CHUNK: usize = 2048;
 
 impl Stepper {
-    /// Tangent into `self.tangent`, unbalanced force per cover returned; updates rotations.
+    /// Tangent into `self.tangent`, unbalanced force per cover returned, the loads into
+    /// `self.loads` (the water pressure at the rotations of the last step); updates rotations.
     pub fn assemble(&mut self, sys: &System, state: &mut State) -> Vec<Vec3> {
         self.tangent.iter_mut().for_each(|v| *v = 0.0);
         let mut residual = sys.external.clone();
+        super::water::add_water(sys, state, &mut residual);
+        self.loads.clone_from(&residual);
         // Fixed blocks' covers cannot move; their forces would go nowhere.
         let moving: Vec<usize> = (0..sys.covers.elements.len())
             .filter(|&e| !sys.geometry.blocks[sys.covers.elements[e].block].fixed)

@@ -96,6 +96,7 @@ impl Stepper {
             energy: s.energy,
             cuts: Vec::new(),
             undetected: s.undetected,
+            loads: Vec::new(),
         })
     }
 }

@@ -89,6 +89,8 @@ pub struct Stepper {
     pub cuts: Vec<Cut>,
     /// Largest displacement summed over the steps since the last contact detection [m].
     pub(super) undetected: f64,
+    /// The loads of the step being taken: dead loads and water pressure at its start [N].
+    pub(super) loads: Vec<Vec3>,
 }
 
 impl Stepper {
@@ -120,6 +122,7 @@ impl Stepper {
             energy: None,
             cuts: Vec::new(),
             undetected: 0.0,
+            loads: Vec::new(),
         };
         stepper.ensure_contact_pattern(sys, 0);
         Ok(stepper)
@@ -155,7 +158,7 @@ impl Stepper {
         let mut residual = self.assemble(sys, state);
         let base = self.shaking(sys).then(|| sys.base_force(sys.scenario.seismic.acceleration_after(state.time)));
         add_to(&mut residual, base.as_deref());
-        self.force_scale = scale(sys, &residual).max(scale(sys, &sys.external));
+        self.force_scale = scale(sys, &residual).max(scale(sys, &self.loads));
         if sys.scenario.analysis.kind == AnalysisKind::Dynamic && self.newmark.uses_acceleration() && sys.n_eq() > 0 {
             self.pattern.combine(sys, (0.0, &self.tangent), (1.0, &sys.mass_values), &mut self.values);
             let mut rhs = gather(sys, &residual);
@@ -380,8 +383,8 @@ impl Stepper {
             (Some(f0), Some(f1)) => 0.5 * (dot(f0) + dot(f1)),
             _ => 0.0,
         };
-        let external_work = dot(&sys.external) + base_work;
-        let f_int: Vec<Vec3> = sys.external.iter().zip(s.residual).map(|(f, r)| f - r).collect();
+        let external_work = dot(&self.loads) + base_work;
+        let f_int: Vec<Vec3> = self.loads.iter().zip(s.residual).map(|(f, r)| f - r).collect();
         let x = equation_vector(sys, s.d);
         let elastic = dot(&f_int) + 0.5 * sys.assembler.pattern.quadratic_form(&self.tangent, &x);
         let m_a1 = mass_times(sys, &state.a);
