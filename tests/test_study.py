@@ -104,15 +104,19 @@ def test_monte_carlo_friction_scatter_fails_where_the_vector_method_says(tmp_pat
     s = study("tetrahedral_wedge.toml", tmp_path, "study.kind=\"monte_carlo\"", "study.samples=16", "study.seed=3",
               "study.strength=[{joint = \"j\", friction_angle_sd = 3.0}]", "joint.j.friction_angle=32.5").summary
     assert s["samples"] == 16 and s["judged"] == 16
+    # Within 0.1° of φ_c a run cannot tell (the criterion's own bias is ~0.05°; 0.006° below
+    # φ_c a wedge slides 1 mm in the 0.5 s run): those samples may go either way.
+    near = [r for r in s["rows"] if abs(r["joint.j.friction_angle"] - phi_c) <= 0.1]
     for r in s["rows"]:
-        if abs(r["joint.j.friction_angle"] - phi_c) > 0.1:  # the criterion's own bias is ~0.05°
+        if r not in near:
             assert r["unstable"] == (r["joint.j.friction_angle"] < phi_c), r
     # The study's probability is the vector method's on the same samples (the sampler's
     # distribution is checked in test_study_units.py against the normal law, P = Φ((φ_c − μ)/σ)).
-    below = sum(r["joint.j.friction_angle"] < phi_c for r in s["rows"])
-    assert s["failures"] == below and s["probability_of_failure"] == below / 16
+    below = sum(r["joint.j.friction_angle"] < phi_c for r in s["rows"] if r not in near)
+    assert below <= s["failures"] <= below + len(near)
+    assert s["probability_of_failure"] == s["failures"] / 16
     lo, hi = s["interval"]
-    assert lo < below / 16 < hi
+    assert lo < s["failures"] / 16 < hi
     assert (tmp_path / "study.png").is_file()
 
 

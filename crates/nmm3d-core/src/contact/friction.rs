@@ -48,6 +48,26 @@ impl ContactSet {
     }
 }
 
+impl ContactSet {
+    /// Release the lock of the initial equilibrium: a closed point whose locked shear spring
+    /// pulls harder than the friction limit is returned onto it (the spring shortened until
+    /// |t·P − k_s s₀| = L). The energy that frees is the locked equilibrium's, not the run's:
+    /// the run's energy accounts start after it. Returns how many points were returned.
+    pub fn release(&mut self) -> usize {
+        let mut released = 0;
+        for r in self.records.iter_mut().filter(|r| r.state != ContactState::Open) {
+            let t = tangential(&r.normal);
+            let h = t * r.preload - r.ks * r.shear0;
+            if h.norm() > r.limit && r.ks > 0.0 {
+                let hat = h.normalize();
+                r.shear0 = (t * r.preload - r.limit * hat) / r.ks;
+                released += 1;
+            }
+        }
+        released
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -89,6 +109,20 @@ mod tests {
             (set.records[0].shear0 - Vec3::new(3e-7, 0.0, 0.0)).norm() < 1e-20,
             "only the tangential motion stretches it"
         );
+    }
+
+    #[test]
+    fn release_returns_an_overstressed_locked_spring_onto_the_coulomb_limit() {
+        // Locked at 3 µm × 1e9 N/m = 3 kN of shear against a limit of 500 N; another within it.
+        let mut over = test_point(ContactState::Stick, -1e-6);
+        (over.limit, over.shear0) = (500.0, Vec3::new(0.0, -3e-6, 0.0));
+        let mut within = over.clone();
+        within.shear0 = Vec3::new(2e-7, 0.0, 0.0);
+        let mut set = set_of(over);
+        set.records.push(within);
+        assert_eq!(set.release(), 1);
+        assert!((set.records[0].shear0 - Vec3::new(0.0, -5e-7, 0.0)).norm() < 1e-18, "500 N, same direction");
+        assert_eq!(set.records[1].shear0, Vec3::new(2e-7, 0.0, 0.0));
     }
 
     #[test]

@@ -7,8 +7,11 @@ use nmm3d_geom::{Mat3, Vec3};
 use super::record::{tangential, ContactRecord, ContactState};
 
 impl ContactRecord {
-    /// Multiply the point's penalties by `factor`; the shear spring keeps its force. A joint's
-    /// own stiffness is physical and stays.
+    /// Multiply the point's penalties by `factor`, each spring keeping its force: the shear
+    /// extension and the overlap at the start of the step shrink by `factor` (the rest of the
+    /// overlap goes into the zero level, `raised`). Stiffer springs resist further overlap; they
+    /// do not push out the one there is, which would release ten times its spring energy. A
+    /// joint's own stiffness is physical and stays.
     pub fn stiffen(&mut self, factor: f64) {
         if self.joint_stiffness {
             return;
@@ -16,6 +19,13 @@ impl ContactRecord {
         self.kn *= factor;
         self.ks *= factor;
         self.shear0 /= factor;
+        if self.state != ContactState::Open && self.gap0 < 0.0 {
+            let shift = self.gap0 * (1.0 - 1.0 / factor);
+            self.offset += shift;
+            self.raised += shift;
+            self.gap0 -= shift;
+            self.gap -= shift;
+        }
     }
 
     /// The point's spring in its current state, linearised: stiffness (3 × 3) and the constant
@@ -83,6 +93,22 @@ mod tests {
         let across = 0.25 * ks * Mat3::from_diagonal(&Vec3::new(0.0, 1.0, 0.0));
         assert!(close(&block, &(normal + across)));
         assert!((force - Vec3::new(-500.0, 0.0, 1e3)).norm() < 1e-9);
+    }
+
+    #[test]
+    fn raising_the_penalties_keeps_the_normal_force_and_the_geometric_overlap() {
+        // 2 mm into a 1e9 N/m spring: 2 MN before and after a ×10 raise, the rest of the
+        // overlap in the zero level; the overlap itself is still 2 mm.
+        let mut r = test_point(ContactState::Stick, -2e-3);
+        let before = r.spring().1;
+        r.stiffen(10.0);
+        assert!((r.spring().1 - before).norm() < 1e-6 * before.norm(), "{:?} vs {before:?}", r.spring().1);
+        assert!((r.gap0 + 2e-4).abs() < 1e-15 && (r.raised + 1.8e-3).abs() < 1e-15);
+        assert!((-(r.gap + r.raised) - 2e-3).abs() < 1e-15);
+        // An open point keeps its gap.
+        let mut open = test_point(ContactState::Open, 1e-3);
+        open.stiffen(10.0);
+        assert_eq!((open.gap0, open.raised), (1e-3, 0.0));
     }
 
     #[test]

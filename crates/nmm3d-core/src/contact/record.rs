@@ -53,6 +53,11 @@ pub struct ContactRecord {
     /// that input overlapping or apart within the tolerance (coordinates rounded to a few digits)
     /// gives no impulsive force and no fall; carried to the point's successors.
     pub offset: f64,
+    /// Overlap moved into `offset` when the penalty was raised (≤ 0) [m]: the raised spring
+    /// keeps the force it had rather than pushing ten times harder (energy from nowhere); the
+    /// geometric overlap is −(gap + raised). Carried to the point's successors.
+    #[serde(default)]
+    pub raised: f64,
     /// State.
     pub state: ContactState,
     /// Shear-spring extension at the start of the step (tangential) [m].
@@ -167,6 +172,7 @@ impl ContactRecord {
             normal,
             gap0: q.gap,
             offset: if bonded { q.gap } else { 0.0 },
+            raised: 0.0,
             state: if touching { ContactState::Stick } else { ContactState::Open },
             shear0: Vec3::zeros(),
             slip: Vec3::zeros(),
@@ -241,6 +247,7 @@ pub(super) fn test_point(state: ContactState, gap: f64) -> ContactRecord {
         normal: Vec3::z(),
         gap0: gap,
         offset: 0.0,
+        raised: 0.0,
         state,
         shear0: Vec3::zeros(),
         slip: Vec3::zeros(),

@@ -60,8 +60,9 @@ impl ContactSet {
         self.records.iter_mut().for_each(|r| r.stiffen(factor));
     }
 
-    /// Whether a closed point overlaps by more than `depth` [m] and more than at the start of the
-    /// step: the overlap is growing beyond the allowed depth. (A point found already deeper — a
+    /// Whether a closed point's spring is compressed by more than `depth` [m] and more than at
+    /// the start of the step: the overlap is growing beyond the allowed depth (what a raise of
+    /// the penalty moved into the zero level is not counted again). (A point found already deeper — a
     /// corner that came in during the last step without a point, detected now — is being pushed
     /// out; no smaller step can undo an overlap that is there at the start.)
     pub fn overlap_growing_beyond(&self, depth: f64) -> bool {
@@ -72,7 +73,7 @@ impl ContactSet {
 
     /// Largest penetration among closed points [m].
     pub fn max_penetration(&self) -> f64 {
-        self.records.iter().filter(|r| r.state != ContactState::Open).map(|r| -r.gap).fold(0.0, f64::max)
+        self.records.iter().filter(|r| r.state != ContactState::Open).map(|r| -(r.gap + r.raised)).fold(0.0, f64::max)
     }
 }
 

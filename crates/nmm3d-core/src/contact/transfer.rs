@@ -19,7 +19,7 @@ pub(super) fn inherit(
     let q_gap = r.gap0;
     let nearest_old = nearest(previous, candidates, &r.a.reference, f64::INFINITY);
     if let Some(old) = nearest_old {
-        r.offset = old.offset;
+        (r.offset, r.raised) = (old.offset, old.raised);
     }
     (r.gap0, r.gap) = (q_gap - r.offset, q_gap - r.offset);
     let tan_phi = r.strength.tan_phi;

@@ -13,7 +13,8 @@
 //!   the work of the mean inertial force beyond the kinetic energy gained — zero for the
 //!   trapezoidal rule (β = ¼, γ = ½), ½ d · (f₁ − f₀) ≥ 0 for the DDA scheme, which evaluates
 //!   the forces at the end of the step;
-//! * balance error E = (K₀ + S₀ + W) − (K + U + S + D_f + D_n).
+//! * balance error E = (K₀ + S₀ + W) − (K + U + S + D_f + D_n), with S₀ the springs' energy at
+//!   the start of the first step (loaded by the initial equilibrium or by in-situ preloads).
 //!
 //! The error collects what the other accounts do not explain: contact events (a point closing
 //! with an overlap it had no spring for, a point lost or found between steps), the open–close

@@ -54,6 +54,9 @@ impl Stepper {
         }
         self.inertia = true;
         self.lock(false);
+        if let Some(c) = self.contacts.as_mut() {
+            c.release();
+        }
         (state.v, state.a, state.dt, state.time, state.step) = (v, a, dt, 0.0, 0);
         Ok((steps, unbalanced))
     }
