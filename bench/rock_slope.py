@@ -32,6 +32,12 @@ CASES = {
     "thesis penalty (260 MN/m); exact settling, 12 iterations, then cut": EXACT,
     "the example: thesis penalty; force tolerance 1e-3, 25 iterations": [],
 }
+# The long runs: (label, φ, overrides).
+LONG = [
+    ("φ = 10°, the example's blocks", 10.0, []),
+    ("φ = 10°, slivers merged (`cutting.sliver_ratio = 0.02`)", 10.0, ["cutting.sliver_ratio=0.02"]),
+    ("φ = 45°", 45.0, []),
+]
 PHASES = ["assembly", "contact_warning", "contact_detection", "contact_pattern", "factorization", "contact_open_close", "solve"]
 
 
@@ -63,8 +69,8 @@ def main() -> None:
             print(json.dumps(run_case(json.loads(args.case), args.duration, d, args.phi)))
         return
     rows = [(name, *measure(overrides, args.duration)) for name, overrides in CASES.items()]
-    long = [(phi, *measure([], args.long, phi)) for phi in (10.0, 45.0)] if args.long > 0 else []
-    write(rows, args.duration, long)
+    long = [(label, *measure(o, args.long, phi)) for label, phi, o in LONG] if args.long > 0 else []
+    write(rows, args.duration, long, args.long)
 
 
 def measure(overrides: list[str], duration: float, phi: float = 10.0) -> tuple[float, dict]:
@@ -77,7 +83,7 @@ def measure(overrides: list[str], duration: float, phi: float = 10.0) -> tuple[f
     return load, row
 
 
-def write(rows: list, duration: float, long: list) -> None:
+def write(rows: list, duration: float, long: list, long_duration: float) -> None:
     ideal = round(duration / 1e-3)
     lines = [
         "# Performance: the rock slope (thesis case A)",
@@ -113,11 +119,11 @@ def write(rows: list, duration: float, long: list) -> None:
         "requested 1 ms (`docs/theory/contact.md`).",
         "",
     ]
-    lines += long_run(long)
+    lines += long_run(long, long_duration)
     (ROOT / "docs" / "performance-rock-slope.md").write_text("\n".join(lines))
 
 
-def long_run(long: list) -> list[str]:
+def long_run(long: list, duration: float) -> list[str]:
     """The long runs' table and the toe block's history plot."""
     if not long:
         return []
@@ -126,43 +132,54 @@ def long_run(long: list) -> list[str]:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    duration = long[0][2]["history"]["time"][-1]
     lines = [
-        f"## Long run: {duration:.0f} s simulated, the example as is",
+        f"## Long run: {duration:.0f} s simulated",
         "",
-        "`python bench/rock_slope.py --long 10`. Case A (φ = 10°, free collapse) and the same slope at",
-        "φ = 45° (above every joint's dip: must rest).",
+        f"`python bench/rock_slope.py --long {duration:.0f}`. Case A (φ = 10°, free collapse), with the",
+        "example's blocks and with its slivers (4–19 litres) merged into their neighbours, and the same",
+        "slope at φ = 45° (above every joint's dip: must rest).",
         "",
-        "| φ | load | steps | cuts | Δt < 1 ms | iterations / step | wall [s] | toe x [mm] | toe z [mm] | penalty raises | energy balance error |",
-        "|---|---|---|---|---|---|---|---|---|---|---|",
+        "| case | load | reached t [s] | steps | cuts | Δt < 1 ms | iterations / step | wall [s] | toe x [mm] | toe z [mm] | penalty raises | energy balance error |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     fig, ax = plt.subplots(figsize=(7, 3.5))
-    for phi, load, r in long:
+    for label, load, r in long:
         f = r["final"]
         below = sum(b["steps"] for b in r["step_diagnostics"]["dt_histogram"] if b["to"] < 0.99e-3)
         err = (r.get("energy") or {}).get("max_error_ratio")
+        reached = r["history"]["time"][-1]
         lines.append(
-            f"| {phi:.0f}° | {load:.1f} | {r['steps']} | {r['step_cuts']} | {below} | {r['open_close_iterations'] / r['steps']:.1f} | "
-            f"{r['wall_seconds']:.0f} | {1e3 * f['toe_block.displacement.x']:.2f} | {1e3 * f['toe_block.displacement.z']:.2f} | "
-            f"{r['penalty_raises']} | {'' if err is None else f'{100 * err:.1f} %'} |"
+            f"| {label} | {load:.1f} | {reached:.2f} ({r['status']}) | {r['steps']} | {r['step_cuts']} | {below} | "
+            f"{r['open_close_iterations'] / r['steps']:.1f} | {r['wall_seconds']:.0f} | {1e3 * f['toe_block.displacement.x']:.2f} | "
+            f"{1e3 * f['toe_block.displacement.z']:.2f} | {r['penalty_raises']} | {'' if err is None else f'{100 * err:.1f} %'} |"
         )
         h = r["history"]
         for key, style in (("toe_block.displacement.x", "-"), ("toe_block.displacement.z", "--")):
-            ax.plot(h["time"], h[key], style, label=f"φ = {phi:.0f}°, {key.split('.')[-1]}")
+            ax.plot(h["time"], h[key], style, label=f"{label.split(' (')[0]}, {key.split('.')[-1]}")
     lines.append("")
     lines.append("Seconds per phase:")
     lines.append("")
-    lines.append("| φ | " + " | ".join(PHASES) + " |")
+    lines.append("| case | " + " | ".join(PHASES) + " |")
     lines.append("|---|" + "---|" * len(PHASES))
-    for phi, _, r in long:
-        lines.append(f"| {phi:.0f}° | " + " | ".join(f"{r['timings'].get(k, 0.0):.1f}" for k in PHASES) + " |")
+    for label, _, r in long:
+        lines.append(f"| {label} | " + " | ".join(f"{r['timings'].get(k, 0.0):.1f}" for k in PHASES) + " |")
+    ax.set_ylim(bottom=max(ax.get_ylim()[0], -15.0))  # a block that leaves the road falls on
     ax.set_xlabel("time [s]")
     ax.set_ylabel("toe block displacement [m]")
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
     fig.tight_layout()
     fig.savefig(ROOT / "docs" / "images" / "rock_slope_case_a.png", dpi=120)
-    lines += ["", "![toe block of the rock slope, case A and φ = 45°](images/rock_slope_case_a.png)", ""]
+    lines += [
+        "",
+        "![toe block of the rock slope, case A and φ = 45°](images/rock_slope_case_a.png)",
+        "",
+        "Reading the table: \"reached t\" is where a run stopped and why; the energy column is the",
+        "largest balance error over the run relative to its largest account (5 % gets a warning in",
+        "`summary.json`). The sliding layer reaches the road at about 6 m/s after 1.4 s; the road",
+        "(10.7 m) is shorter than the blocks' run-out at φ = 10°, and blocks that leave it fall freely.",
+        "",
+    ]
     return lines
 
 

@@ -15,34 +15,21 @@ import numpy as np
 import pytest
 
 import nmm3d
-from nmm3d.wedge import critical_friction_angle, plane_normal, wedge
+from nmm3d.wedge import critical_friction_angle, wedge
+from test_wedge_nmm import scenario
 
 PLANE_A, PLANE_B = (40.0, 130.0), (60.0, 220.0)
+
 G = 9.81
 T = 0.4  # s
 MAX_STEPS = 500
 
 
 def wedge_scenario(phi: float, duration: float = T, stiffness: float | None = None) -> dict:
-    na, nb = plane_normal(*PLANE_A), plane_normal(*PLANE_B)
-    box = [[1, 0, 0, 4.0], [-1, 0, 0, 4.0], [0, 1, 0, 1.0], [0, -1, 0, 6.0], [0, 0, 1, 0.0], [0, 0, -1, 6.0]]
-    rock = lambda n: [[*n.tolist(), 0.0], *box]  # noqa: E731 (below the plane: n·x ≤ 0)
-    contact = {} if stiffness is None else {"normal_stiffness": stiffness, "shear_stiffness": stiffness}
-    return {
-        "analysis": {"duration": duration, "dt": 0.002, "max_displacement_ratio": 0.002, "gravity": [0.0, 0.0, -G],
-                     "output_interval": 0.0, "initial_equilibrium": True, "max_steps": MAX_STEPS},
-        "cover": {"pattern": "tet6", "size": 0.5},
-        "contact": contact,
-        "material": [{"name": "rock", "density": 2600.0, "young": 1.0e10, "poisson": 0.0}],
-        "joint": [{"name": "j", "friction_angle": phi}],
-        "body": [
-            {"name": "rock_a", "material": "rock", "fixed": True, "shape": {"convex": {"planes": rock(na)}}},
-            {"name": "rock_b", "material": "rock", "fixed": True, "shape": {"convex": {"planes": rock(nb)}}},
-            {"name": "wedge", "material": "rock", "joint": "j", "shape": {"convex": {"planes": [
-                [*(-na).tolist(), 0.0], [*(-nb).tolist(), 0.0], [0, 0, 1, 0.0], [0, -1, 0, 2.0]]}}},
-        ],
-        "monitor": [{"name": "wedge", "select": {"body": "wedge"}, "quantities": ["displacement"]}],
-    }
+    data = scenario(phi, (PLANE_A, PLANE_B))
+    data["analysis"].update(duration=duration, max_steps=MAX_STEPS)
+    data["contact"] = {} if stiffness is None else {"normal_stiffness": stiffness, "shear_stiffness": stiffness}
+    return data
 
 
 def run(data: dict, out) -> nmm3d.Result:

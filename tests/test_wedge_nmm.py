@@ -21,8 +21,9 @@ G = 9.81
 T = 0.4  # s
 
 
-def scenario(phi: float) -> dict:
-    na, nb = plane_normal(*PLANE_A), plane_normal(*PLANE_B)
+def scenario(phi: float, planes: tuple = (PLANE_A, PLANE_B)) -> dict:
+    """The wedge on two joint planes (dip, dip direction) between fixed rock, at rest."""
+    na, nb = plane_normal(*planes[0]), plane_normal(*planes[1])
     box = [[1, 0, 0, 4.0], [-1, 0, 0, 4.0], [0, 1, 0, 1.0], [0, -1, 0, 6.0], [0, 0, 1, 0.0], [0, 0, -1, 6.0]]
     rock = lambda n: [[*n.tolist(), 0.0], *box]  # noqa: E731 (below the plane: n·x ≤ 0)
     return {
