@@ -110,7 +110,7 @@ impl ContactSet {
             if r.state != ContactState::Slide {
                 r.rel = Vec3::zeros();
             }
-            r.limit = r.strength.tan_phi * (r.normal.dot(&r.preload) - r.kn * gap).max(0.0) + r.strength.cohesion;
+            r.limit = r.coulomb_limit(gap);
         }
     }
 }

@@ -8,13 +8,24 @@ use super::record::{tangential, ContactRecord, ContactState};
 use super::set::ContactSet;
 
 impl ContactRecord {
+    /// Shear force on A of the shear spring stretched by `extension`, with the tangential
+    /// preload: t·P − k_s s [N].
+    pub fn shear_force(&self, extension: &Vec3) -> Vec3 {
+        tangential(&self.normal) * self.preload - self.ks * extension
+    }
+
+    /// Coulomb limit at normal gap `gap`: tan φ (n·P − k_n g)⁺ + c [N].
+    pub fn coulomb_limit(&self, gap: f64) -> f64 {
+        let s = self.strength;
+        s.tan_phi * (self.normal.dot(&self.preload) - self.kn * gap).max(0.0) + s.cohesion
+    }
+
     /// Sliding friction on A at the last iterate and its tangent: f = L ĥ with ĥ the direction of
     /// the elastic trial force h = t·P − k_s (s₀ + t·rel) and L the friction limit (`limit`);
     /// df/d(rel) = −K, K = k_s min(L/|h|, 1) (t − ĥ ĥᵀ).
     pub fn friction(&self) -> (Vec3, Mat3) {
-        let ks = self.ks;
-        let t = tangential(&self.normal);
-        let h = t * self.preload - ks * (self.shear0 + t * self.rel);
+        let (ks, t) = (self.ks, tangential(&self.normal));
+        let h = self.shear_force(&(self.shear0 + t * self.rel));
         let limit = self.limit;
         if h.norm() <= f64::EPSILON * (limit + ks * self.shear0.norm()) {
             return (-limit * self.slip, Mat3::zeros());
@@ -56,11 +67,10 @@ impl ContactSet {
     pub fn release(&mut self) -> usize {
         let mut released = 0;
         for r in self.records.iter_mut().filter(|r| r.state != ContactState::Open) {
-            let t = tangential(&r.normal);
-            let h = t * r.preload - r.ks * r.shear0;
+            let h = r.shear_force(&r.shear0);
             if h.norm() > r.limit && r.ks > 0.0 {
-                let hat = h.normalize();
-                r.shear0 = (t * r.preload - r.limit * hat) / r.ks;
+                // The extension s₀′ with t·P − k_s s₀′ = L ĥ.
+                r.shear0 = (tangential(&r.normal) * r.preload - r.limit * h.normalize()) / r.ks;
                 released += 1;
             }
         }

@@ -44,9 +44,8 @@ impl ContactSet {
             // Elastic trial: forces on A if the springs held (return mapping onto the Coulomb
             // limit, as in 3DEC; a sliding point's spring sits at the limit, see `accept`).
             let normal = n.dot(&r.preload) - kn * r.gap;
-            let held = t * r.preload - ks * shear;
-            let s = r.strength;
-            let limit = s.tan_phi * normal.max(0.0) + s.cohesion;
+            let held = r.shear_force(&shear);
+            let limit = r.coulomb_limit(r.gap);
             let closing = r.state == ContactState::Open;
             let new = next_state(r, normal, &held, limit, (band, reclose, max_reclose), locked);
             if new == ContactState::Slide && held.norm() > 0.0 {

@@ -47,7 +47,7 @@ pub(super) fn inherit(
             r.shear0 = r.slip * (tan_phi * (-r.kn * r.gap0).max(0.0) / r.ks);
         }
     }
-    r.limit = r.strength.tan_phi * (r.normal.dot(&r.preload) - r.kn * r.gap0).max(0.0) + r.strength.cohesion;
+    r.limit = r.coulomb_limit(r.gap0);
 }
 
 /// The previous point (among `candidates`) nearest `x` within `reach`.
