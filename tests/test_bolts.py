@@ -94,11 +94,17 @@ def test_key_block_falling_on_its_bolt_has_the_support_over_the_weight():
         assert b.mode.mode == "falling" and b.mode.factor_of_safety == pytest.approx(fy / W, rel=1e-12)
 
 
-def goodman_bolted(yield_force: float) -> nmm3d.Scenario:
-    """Goodman's tunnel with a 1 m × 1 m pattern of 3 m roof bolts (5 along x, 5 across y)."""
+def goodman_bare() -> dict:
+    """Goodman's tunnel as a plain run (no study, no expectations)."""
     d = nmm3d.load(EXAMPLE.parent / "goodman_tunnel.toml").to_dict()
     d.pop("study", None)
     d["expect"] = []
+    return d
+
+
+def goodman_bolted(yield_force: float) -> nmm3d.Scenario:
+    """Goodman's tunnel with a 1 m × 1 m pattern of 3 m roof bolts (5 along x, 5 across y)."""
+    d = goodman_bare()
     d["bolt_pattern"] = [{"name": "roof", "start": [-2.0, -2.0, 0.0], "along": [1.0, 0.0, 0.0],
                           "across": [0.0, 1.0, 0.0], "count": [5, 5], "direction": [0.0, 0.0, 1.0],
                           "length": 3.0, "stiffness": 5e7, "yield_force": yield_force}]
@@ -119,10 +125,7 @@ def test_the_goodman_roof_key_block_held_by_its_bolt_pattern(tmp_path):
     bolted = next(b for b in nmm3d.keyblocks(goodman_bolted(3e4)).blocks if b.joint_pyramid == "101xxx")
     assert bare.mode.factor_of_safety < 0.5 and bolted.mode.factor_of_safety >= 1.5
     run = goodman_bolted(3e4).with_overrides("analysis.duration=0.06").run(out=tmp_path / "bolted")
-    d = nmm3d.load(EXAMPLE.parent / "goodman_tunnel.toml").to_dict()
-    d.pop("study", None)
-    d["expect"] = []
-    free = nmm3d.Scenario.from_dict(d).with_overrides("analysis.duration=0.06").run(out=tmp_path / "bare")
+    free = nmm3d.Scenario.from_dict(goodman_bare()).with_overrides("analysis.duration=0.06").run(out=tmp_path / "bare")
     # Bare it slides out (8.6 mm in 0.06 s); bolted it hangs on the bolts' elastic stretch
     # (≈ 0.5 mm, about which it swings as a suddenly loaded spring does).
     moved = [abs(r.history["roof_block.displacement.z"][-1]) for r in (free, run)]
