@@ -259,7 +259,7 @@ def test_diagnostics_are_written_per_step(tmp_path):
     # The contract's columns first and in order; the energy accounts added after them.
     header = lines[0].split(",")
     assert header[:6] == ["time", "step", "dt", "cuts", "displacement_ratio", "unbalanced_force_ratio"]
-    assert header[6:] == ["kinetic_energy", "elastic_energy", "external_work", "contact_energy", "friction_dissipation", "numerical_dissipation", "energy_error"]
+    assert header[6:] == ["kinetic_energy", "elastic_energy", "external_work", "contact_energy", "friction_dissipation", "numerical_dissipation", "energy_error", "contact_event_dissipation"]
     assert len(lines) == json.loads((out / "summary.json").read_text())["steps"] + 1
 
 

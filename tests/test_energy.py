@@ -49,7 +49,7 @@ def test_free_fall_turns_gravitys_work_into_kinetic_energy(runs):
 def test_the_accounts_are_written_per_step(runs):
     with open(runs["drop_test.toml"].directory / "diagnostics.csv", newline="") as f:
         rows = list(csv.DictReader(f))
-    for column in ("kinetic_energy", "elastic_energy", "external_work", "contact_energy", "friction_dissipation", "numerical_dissipation", "energy_error"):
+    for column in ("kinetic_energy", "elastic_energy", "external_work", "contact_energy", "friction_dissipation", "numerical_dissipation", "energy_error", "contact_event_dissipation"):
         assert column in rows[0]
     # During the bounce the kinetic energy passes through the contact springs.
     assert max(float(r["contact_energy"]) for r in rows) > 0.5 * float(rows[0]["kinetic_energy"])
@@ -60,10 +60,30 @@ def test_a_static_run_has_no_energy_accounts(tmp_path):
     assert result.summary["energy"] is None
 
 
-@pytest.mark.xfail(strict=True, reason="a domino corner found deep at a step start pushes out with energy from nowhere (issue 10)")
-def test_the_dominos_balance_closes(tmp_path):
-    result = nmm3d.load(EXAMPLES / "dominos.toml", ["analysis.duration=0.3"]).run(out=tmp_path / "d")
-    assert result.summary["energy"]["max_error_ratio"] <= 0.01, result.summary["energy"]
+@pytest.fixture(scope="module")
+def dominos(tmp_path_factory):
+    """The dominos through their first impacts (the end dominos reach their neighbours at 0.21 s)."""
+    out = tmp_path_factory.mktemp("dominos") / "d"
+    return nmm3d.load(EXAMPLES / "dominos.toml", ["analysis.duration=0.5"]).run(out=out)
+
+
+def test_no_step_of_the_dominos_creates_energy(dominos):
+    # At an impact the scheme and the contacts may only take energy (the numerical and the
+    # contact-event dissipation of a step are not negative beyond round-off of the largest
+    # account). A domino's top corner that came into its neighbour's face unseen, found deep at
+    # the next step and pushed out, once made 50 J out of nothing here in one step.
+    with open(dominos.directory / "diagnostics.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    taken = [float(r["numerical_dissipation"]) + float(r["contact_event_dissipation"]) for r in rows]
+    scale = max(abs(float(r["external_work"])) + float(r["kinetic_energy"]) for r in rows)
+    worst = min(b - a for a, b in zip(taken, taken[1:]))
+    assert worst > -1e-3 * scale, (worst, scale)
+    assert dominos.summary["max_penetration"] < 1e-3
+
+
+@pytest.mark.xfail(strict=True, reason="the tipping end dominos lose about 0.03 J per step while they turn on their edges, unaccounted (7 % by 0.3 s; issue 10)")
+def test_the_dominos_balance_closes(dominos):
+    assert dominos.summary["energy"]["max_error_ratio"] <= 0.01, dominos.summary["energy"]
 
 
 def _speed_and_drop(result, monitor: str, g: float):

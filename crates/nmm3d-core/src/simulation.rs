@@ -479,7 +479,8 @@ fn energy_summary(end: Option<&crate::time::Energy>, rows: &[(f64, u64, crate::t
     });
     json!({
         "kinetic": e.kinetic, "elastic": e.elastic, "external_work": e.external_work, "contact": e.contact,
-        "friction_dissipation": e.friction, "numerical_dissipation": e.numerical, "error": e.error(),
+        "friction_dissipation": e.friction, "numerical_dissipation": e.numerical,
+        "contact_event_dissipation": e.contact_events, "error": e.error(),
         "max_error_ratio": worst.0, "max_error_time": worst.1, "warning": warning,
     })
 }

@@ -64,6 +64,13 @@ pub struct Contact {
     pub points: Vec<ContactPoint>,
     /// Area of the overlap of the two support polygons [m²] (0 for an edge or a point).
     pub area: f64,
+    /// Vertices of one piece within the margin of the other's face that gives the plane,
+    /// projecting inside it, but not on the support (beyond the support tolerance): corners
+    /// that can reach the face within a step — a tipping edge's far end, a block turning onto
+    /// a face. Without a point they would pass into the face unresisted and be found at the
+    /// next detection already deep, to be pushed out with energy from nowhere (DDA detects
+    /// every vertex within its step's reach for the same reason: Shi 1988, ch. 4).
+    pub approaching: Vec<ContactPoint>,
 }
 
 /// A piece prepared for detection: its distinct vertices, faces (vertex indices), edges,
@@ -200,7 +207,11 @@ pub fn detect_prepared(a: &Prepared, b: &Prepared, params: &DetectParams) -> Opt
     // are tried in order: overlapping pieces must not be left without points. Pieces apart or
     // just touching (diagonal neighbours, blocks meeting at an edge of a joint) are left alone:
     // a deeper plane would give them an overlap they do not have.
-    let overlapping = top < -support_tolerance;
+    // An edge–edge plane whose supports miss each other while the pieces overlap at all is the
+    // same failure on warped faces (a corner pressed into a face that is out of plane by more
+    // than the support tolerance: the best axis crosses two edges that do not meet).
+    let edge_plane = k >= b.normals.len() + a.normals.len();
+    let overlapping = top < -support_tolerance || (edge_plane && top < 0.0);
     let mut order: Vec<usize> = (0..axes.len())
         .filter(|&m| overlapping && m != k && seps[m] >= top - FALLBACK_DEPTH * support_tolerance)
         .collect();
@@ -232,7 +243,57 @@ fn contact_on_axis(
     let face_a = (nb <= m && m < nb + na).then(|| a.faces[m - nb].as_slice());
     let (points, area) =
         contact_points((&a.vertices, face_a), (&b.vertices, face_b), &normal, params.support_tolerance);
-    Contact { normal, separation, points: thin(points, params.thin_distance), area }
+    let points = thin(points, params.thin_distance);
+    let approaching = approaching((a, face_a), (b, face_b), &normal, params)
+        .into_iter()
+        .filter(|p| points.iter().all(|q| (q.on_a - p.on_a).norm() >= params.thin_distance))
+        .collect();
+    Contact { normal, separation, points, area, approaching }
+}
+
+/// The vertices of one piece approaching the other's face that gives the plane (see
+/// [`Contact::approaching`]): within `margin` of the face's plane, beyond the support
+/// tolerance from the support level, projecting inside the face.
+fn approaching(
+    (a, face_a): (&Prepared, Option<&[usize]>),
+    (b, face_b): (&Prepared, Option<&[usize]>),
+    n: &Vec3,
+    params: &DetectParams,
+) -> Vec<ContactPoint> {
+    // The face's side is `face`, the vertices' side `others`; `s` = +1 when the face is A's.
+    let (face, face_vertices, others, s, mode) = match (face_a, face_b) {
+        (Some(f), _) => (f, &a.vertices, &b.vertices, 1.0, Mode::VertexOfB),
+        (None, Some(f)) => (f, &b.vertices, &a.vertices, -1.0, Mode::VertexOfA),
+        (None, None) => return Vec::new(),
+    };
+    let on_face: Vec<Vec3> = face.iter().map(|&i| face_vertices[i]).collect();
+    let flat = |v: &Vec3| v - n * n.dot(v);
+    let outline = hull(&on_face.iter().map(flat).collect::<Vec<_>>(), n);
+    if outline.len() < 3 {
+        return Vec::new();
+    }
+    let height = height_field(&on_face, n);
+    let scale = face_vertices.iter().chain(others).map(|x| x.norm()).fold(1.0, f64::max);
+    let eps = 1e-9 * scale;
+    // The support level of the vertices' side (its extreme towards the face).
+    let level = others.iter().map(|v| s * n.dot(v)).fold(f64::NEG_INFINITY, f64::max);
+    others
+        .iter()
+        .filter(|v| s * n.dot(v) < level - params.support_tolerance)
+        .filter_map(|v| {
+            let p = flat(v);
+            let gap = s * (height(&p) - n.dot(v));
+            let inside = (0..outline.len()).all(|i| {
+                let (q, r) = (outline[i], outline[(i + 1) % outline.len()]);
+                (r - q).cross(&(p - q)).dot(n) >= -eps * (r - q).norm()
+            });
+            (gap <= params.margin && inside).then(|| {
+                let on_face = p + n * height(&p);
+                let (on_a, on_b) = if s > 0.0 { (on_face, *v) } else { (*v, on_face) };
+                ContactPoint { mode, on_a, on_b, gap }
+            })
+        })
+        .collect()
 }
 
 /// Merge points closer than `d`, keeping the deeper of each pair (order of first appearance).
@@ -637,6 +698,67 @@ mod tests {
         // The face is out of plane by a few tenths of a millimetre: the point's gap (from the
         // face's mean plane) is the overlap to within that.
         overlap_has_points(&a, &b, 5e-4);
+    }
+
+    #[test]
+    fn a_corner_pressed_into_a_warped_face_past_an_edge_plane_gives_a_point() {
+        // A tipped domino's top corner (B) pressed into the face of an upright one (A) whose
+        // top corner is pushed 0.4 mm out of plane (four times the support tolerance), from a
+        // two-end run: the best axis crosses two edges whose supports miss each other. The
+        // pair overlaps, so the face planes behind it are tried; a point must come out.
+        let a = deformed(
+            ConvexPolyhedron::from_box(Vec3::new(1.5, 0.0, 0.0), Vec3::new(1.6, 0.4, 1.0)),
+            &[
+                [1.4999911938149832, -5.831333092718583e-07, -5.98629548824506e-07],
+                [1.499953730924162, 7.047127921992474e-05, 1.0000038403435698],
+                [1.5004022878536074, 0.40012077327016266, 0.9999266267056216],
+                [1.5000018393826104, 0.4000030103851861, 2.639167290390927e-06],
+                [1.5999900753299483, -8.094726703155245e-06, 1.908461156047019e-06],
+                [1.6000018162756622, 0.3999998987628896, -4.896098728265363e-07],
+                [1.6003871572509505, 0.3999787258337194, 0.9999148905107962],
+                [1.5999542476432547, -1.6156652436606388e-05, 0.9999903254163255],
+            ],
+        );
+        let b = deformed(
+            ConvexPolyhedron::from_box(Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.1, 0.4, 1.0)),
+            &[
+                [0.9971844326507497, 0.00249167189087431, 0.04085714114494149],
+                [1.405668770063083, -0.0037146730313439664, 0.9535645222149491],
+                [1.4090792255635334, 0.3962414006114385, 0.9546745329448862],
+                [1.001257202668959, 0.402470939405209, 0.04171400993821307],
+                [1.0884491732208101, 0.0016498535620931936, -4.615856863973829e-07],
+                [1.0925279091459854, 0.40163407379869737, 0.0008607194976963132],
+                [1.5003915190866954, 0.3955736324630418, 0.9139805407157683],
+                [1.4969610324158529, -0.004435456850451808, 0.9127587254942888],
+            ],
+        );
+        let c = detect(&a, &b, &DetectParams { margin: 0.0101, support_tolerance: 1e-4, thin_distance: 1e-3 })
+            .expect("within the margin");
+        assert!(!c.points.is_empty(), "no contact points on plane {:?} ({})", c.normal, c.separation);
+        let corner = Vec3::new(1.5003915190866954, 0.3955736324630418, 0.9139805407157683);
+        assert!(c.points.iter().any(|p| (p.on_b - corner).norm() < 1e-3), "{:?}", c.points);
+    }
+
+    #[test]
+    fn the_far_corners_of_a_tipping_face_are_approaching_points() {
+        // A cube tipped 1° about y rests on the edge of its base: two support points. The other
+        // two corners of the base are 17.5 mm above the slab: points to be, within a 20 mm
+        // margin (a step's reach), none within 10 mm.
+        let base = ConvexPolyhedron::from_box(Vec3::new(-5.0, -5.0, -1.0), Vec3::new(5.0, 5.0, 0.0));
+        let tip = 1f64.to_radians();
+        let h = 0.5 * (tip.cos() + tip.sin());
+        let cube = rotated(&cube(Vec3::new(0.0, 0.0, h - 0.001), 1.0), [0.0, 1.0, 0.0]);
+        let params = |margin| DetectParams { margin, support_tolerance: 1e-4, thin_distance: 1e-2 };
+        let c = detect(&cube, &base, &params(0.02)).unwrap();
+        assert_eq!(c.points.len(), 2, "{:?}", c.points);
+        assert_eq!(c.approaching.len(), 2, "{:?}", c.approaching);
+        let rise = tip.sin() - 0.001;
+        for p in &c.approaching {
+            assert_eq!(p.mode, Mode::VertexOfA);
+            assert!((p.gap - rise).abs() < 1e-9, "{} vs {rise}", p.gap);
+            assert!((p.on_a - p.on_b - p.gap * Vec3::z()).norm() < 1e-9);
+        }
+        assert!(detect(&cube, &base, &params(0.01)).unwrap().approaching.is_empty());
     }
 
     #[test]

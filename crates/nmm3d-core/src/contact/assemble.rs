@@ -3,7 +3,7 @@
 
 use nmm3d_geom::Vec3;
 
-use super::record::ContactState;
+use super::record::{ContactRecord, ContactState};
 use super::set::ContactSet;
 use crate::assembly::{Coupling, SparsityPattern};
 use crate::system::System;
@@ -76,11 +76,15 @@ impl ContactSet {
                     n * n.dot(&r.preload) + spring - (r.strength.tan_phi * normal + r.strength.cohesion) * r.slip
                 }
             };
-            for (mp, sign) in [(&r.a, 1.0), (&r.b, -1.0)] {
-                for (&c, w) in sys.covers.elements[mp.element].covers.iter().zip(&mp.weights) {
-                    f[c] += sign * w * force;
-                }
-            }
+            r.scatter(sys, &force, f);
+        }
+    }
+
+    /// Add each point's force as the last solve applied it (the step's end) to the per-cover
+    /// forces `f`.
+    pub fn add_end_forces(&self, sys: &System, f: &mut [Vec3]) {
+        for r in &self.records {
+            r.scatter(sys, &r.applied, f);
         }
     }
 
@@ -92,6 +96,18 @@ impl ContactSet {
             .filter(|r| r.state != ContactState::Open)
             .map(|r| 0.5 * r.kn * r.gap.min(0.0).powi(2) + 0.5 * r.ks * r.shear0.norm_squared())
             .sum()
+    }
+}
+
+impl ContactRecord {
+    /// Add `force` on A (and its opposite on B) to the per-cover forces `f` through the
+    /// material points' weights.
+    fn scatter(&self, sys: &System, force: &Vec3, f: &mut [Vec3]) {
+        for (mp, sign) in [(&self.a, 1.0), (&self.b, -1.0)] {
+            for (&c, w) in sys.covers.elements[mp.element].covers.iter().zip(&mp.weights) {
+                f[c] += sign * w * force;
+            }
+        }
     }
 }
 

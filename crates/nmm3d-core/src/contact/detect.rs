@@ -8,7 +8,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
-use nmm3d_geom::contact::{detect_prepared, Contact, DetectParams, Prepared};
+use nmm3d_geom::contact::{detect_prepared, Contact, ContactPoint, DetectParams, Prepared};
 use nmm3d_geom::{ConvexPolyhedron, Vec3};
 
 use super::broad::Warning;
@@ -53,32 +53,14 @@ impl ContactSet {
         let clock = Instant::now();
         let current: Vec<_> = self.pieces.par_iter().map(|p| p.current(sys, state)).collect();
         let p = self.params;
-        let dp = DetectParams { margin: p.margin, support_tolerance: p.tolerance, thin_distance: 10.0 * p.tolerance };
         let pieces = &self.pieces;
         let keep = |i: usize, j: usize| {
             pieces[i].block != pieces[j].block && !both_fixed(sys, pieces[i].block, pieces[j].block)
         };
-        let pairs = self.warning.update(&current, p.margin, p.skin, keep);
+        let pairs = self.warning.update(&current, p.margin, p.skin, keep).to_vec();
         self.times.warning += clock.elapsed().as_secs_f64();
         let clock = Instant::now();
-        let prepared: Vec<Prepared> = current.par_iter().map(Prepared::new).collect();
-        // Current facet vertices, once per piece and only for pieces in a detected pair.
-        let facets: Vec<OnceLock<Vec<Vec<Vec3>>>> = pieces.iter().map(|_| OnceLock::new()).collect();
-        let facets_of = |k: usize| facets[k].get_or_init(|| pieces[k].facet_positions(sys, state)).as_slice();
-        // A is the piece of the higher block index.
-        let found: Vec<(usize, usize, Vec3, Vec<Candidate>)> = pairs
-            .par_iter()
-            .map(|&(i, j)| if pieces[i].block > pieces[j].block { (i, j) } else { (j, i) })
-            .filter_map(|(i, j)| {
-                let c = detect_prepared(&prepared[i], &prepared[j], &dp)?;
-                let on = Surfaces {
-                    pieces: (&pieces[i], &pieces[j]),
-                    current: (&current[i], &current[j]),
-                    facets: (facets_of(i), facets_of(j)),
-                };
-                Some((i, j, c.normal, candidates(sys, state, &on, &c, (p.tolerance, p.merge))))
-            })
-            .collect();
+        let found = self.find(sys, state, &current, (&pairs, f64::NEG_INFINITY));
         let previous = std::mem::take(&mut self.records);
         let mut by_pair: FxHashMap<(usize, usize), Vec<usize>> = FxHashMap::default();
         for (k, r) in previous.iter().enumerate() {
@@ -94,6 +76,77 @@ impl ContactSet {
             }
         }
         self.times.detection += clock.elapsed().as_secs_f64();
+    }
+
+    /// The contact points of the candidate pairs `pairs` (piece indices) on the pieces' geometry
+    /// `current` at `state`: per detected pair, A's and B's piece (A of the higher block
+    /// index), the normal and the points. Pairs separated by more than −`overlap` (overlapping
+    /// by less) are left out.
+    fn find(
+        &self,
+        sys: &System,
+        state: &State,
+        current: &[ConvexPolyhedron],
+        (pairs, overlap): (&[(usize, usize)], f64),
+    ) -> Vec<(usize, usize, Vec3, Vec<Candidate>)> {
+        let p = self.params;
+        let dp = DetectParams { margin: p.margin, support_tolerance: p.tolerance, thin_distance: 10.0 * p.tolerance };
+        let pieces = &self.pieces;
+        let prepared: Vec<Prepared> = current.par_iter().map(Prepared::new).collect();
+        // Current facet vertices, once per piece and only for pieces in a detected pair.
+        let facets: Vec<OnceLock<Vec<Vec<Vec3>>>> = pieces.iter().map(|_| OnceLock::new()).collect();
+        let facets_of = |k: usize| facets[k].get_or_init(|| pieces[k].facet_positions(sys, state)).as_slice();
+        pairs
+            .par_iter()
+            .map(|&(i, j)| if pieces[i].block > pieces[j].block { (i, j) } else { (j, i) })
+            .filter_map(|(i, j)| {
+                let c = detect_prepared(&prepared[i], &prepared[j], &dp).filter(|c| c.separation <= -overlap)?;
+                let on = Surfaces {
+                    pieces: (&pieces[i], &pieces[j]),
+                    current: (&current[i], &current[j]),
+                    facets: (facets_of(i), facets_of(j)),
+                };
+                Some((i, j, c.normal, candidates(sys, state, &on, &c, (p.tolerance, p.merge))))
+            })
+            .collect()
+    }
+
+    /// Points that arrive during a step without having been detected at its start (lagged
+    /// verification, as DDA verifies its contacts at the end of each step): detection on the
+    /// trial's end configuration `end` finds overlaps deeper than the tolerance with no point
+    /// of the pair within the transfer distance. Each is added as a point of the step's start
+    /// (its gap measured at `start`), so the step can be solved again with it; without it the
+    /// corner would pass into the face unresisted and be found deep at the next detection.
+    /// Returns the points added.
+    pub fn arrivals(&mut self, sys: &System, start: &State, end: &State) -> Vec<ContactRecord> {
+        let clock = Instant::now();
+        let current: Vec<_> = self.pieces.par_iter().map(|p| p.current(sys, end)).collect();
+        let pairs = self.warning.pairs.clone();
+        // Only pairs overlapping can have a point that arrived deeper than the tolerance (half
+        // of it: the points' gaps are measured between material points, the separation between
+        // the pieces' faces).
+        let found = self.find(sys, end, &current, (&pairs, 0.5 * self.params.tolerance));
+        let p = self.params;
+        let reach = 10.0 * p.tolerance;
+        let mut added = Vec::new();
+        for (i, j, normal, points) in found {
+            let blocks = (self.pieces[i].block, self.pieces[j].block);
+            let same: Vec<usize> = (0..self.records.len()).filter(|&k| self.records[k].blocks == blocks).collect();
+            let joint = joint_between(sys, blocks.0, blocks.1);
+            for mut q in points {
+                let known = same.iter().any(|&k| (self.records[k].a.reference - q.a.reference).norm() < reach);
+                if q.gap >= -p.tolerance || known {
+                    continue;
+                }
+                q.gap = normal.dot(&(q.a.position(sys, start) - q.b.position(sys, start)));
+                let mut r = ContactRecord::fresh(sys, q, blocks, normal, joint, false, &p);
+                inherit(&mut r, &self.records, Some(&same), &p, self.locked);
+                added.push(r);
+            }
+        }
+        self.records.extend(added.iter().cloned());
+        self.times.detection += clock.elapsed().as_secs_f64();
+        added
     }
 }
 
@@ -128,21 +181,41 @@ struct Surfaces<'a> {
 }
 
 /// Contact point candidates of a detected pair: on the facets for a face-to-face contact, else
-/// the piece-level points (area shared equally).
+/// the piece-level points (area shared equally); and the corners approaching the plane's face.
 fn candidates(sys: &System, state: &State, on: &Surfaces, c: &Contact, (tol, merge): (f64, f64)) -> Vec<Candidate> {
     let ((pa, pb), (ca, cb)) = (on.pieces, on.current);
-    let n = c.normal;
+    let (n, merge_sq) = (c.normal, merge * merge);
     let level = |p: &ConvexPolyhedron, f: fn(f64, f64) -> f64, init: f64| {
         p.faces.iter().flat_map(|x| x.vertices.iter()).map(|v| n.dot(v)).fold(init, f)
     };
     let (level_a, level_b) = (level(ca, f64::min, f64::INFINITY), level(cb, f64::max, f64::NEG_INFINITY));
     let on_facets =
         facets::overlay(sys, (&pa.facets, on.facets.0), (&pb.facets, on.facets.1), &n, (level_a, level_b), tol, merge);
-    if !on_facets.is_empty() {
-        return on_facets;
+    let mut found = if on_facets.is_empty() {
+        let area = if c.points.is_empty() { 0.0 } else { c.area / c.points.len() as f64 };
+        piece_points(sys, state, on, &c.points, (c.normal, area))
+    } else {
+        on_facets
+    };
+    // Corners approaching the face are point contacts (no area), unless a point is there.
+    for q in piece_points(sys, state, on, &c.approaching, (c.normal, 0.0)) {
+        if found.iter().all(|f| (f.on_a - q.on_a).norm_squared() >= merge_sq) {
+            found.push(q);
+        }
     }
-    let area = if c.points.is_empty() { 0.0 } else { c.area / c.points.len() as f64 };
-    c.points
+    found
+}
+
+/// Candidates at the piece-level points `points` of a detected pair, each with `area`.
+fn piece_points(
+    sys: &System,
+    state: &State,
+    on: &Surfaces,
+    points: &[ContactPoint],
+    (n, area): (Vec3, f64),
+) -> Vec<Candidate> {
+    let ((pa, pb), (ca, cb)) = (on.pieces, on.current);
+    points
         .iter()
         .filter_map(|q| {
             let a = MaterialPoint::new(sys, pa.block, pa.reference_of(ca, &q.on_a))?;

@@ -83,6 +83,10 @@ pub struct ContactRecord {
     pub rel: Vec3,
     /// Force on A after the last solve [N].
     pub force: Vec3,
+    /// Force on A the last solve applied (the spring it was solved with, linearised about the
+    /// iterate before it) [N]: what the step's end acceleration carries (energy accounts).
+    #[serde(default = "no_force")]
+    pub applied: Vec3,
     /// Times the point closed in this step's open–close iterations.
     pub reclosed: u32,
     /// The point opened in this step's open–close iterations.
@@ -189,6 +193,7 @@ impl ContactRecord {
             gap: q.gap,
             rel: Vec3::zeros(),
             force: Vec3::zeros(),
+            applied: Vec3::zeros(),
             reclosed: 0,
             opened: false,
             limit: 0.0,
@@ -206,6 +211,10 @@ impl ContactRecord {
     pub fn normal_force(&self) -> f64 {
         (self.normal.dot(&self.preload) - self.kn * self.gap).max(0.0)
     }
+}
+
+fn no_force() -> Vec3 {
+    Vec3::zeros()
 }
 
 /// Tangential projector I − n nᵀ.
@@ -260,6 +269,7 @@ pub(super) fn test_point(state: ContactState, gap: f64) -> ContactRecord {
         gap,
         rel: Vec3::zeros(),
         force: Vec3::zeros(),
+        applied: Vec3::zeros(),
         reclosed: 0,
         opened: false,
         limit: 0.0,

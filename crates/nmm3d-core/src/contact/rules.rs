@@ -82,7 +82,8 @@ impl ContactSet {
                 ContactState::Stick => r.preload - kn * r.gap * n - ks * shear,
                 ContactState::Slide => n * n.dot(&r.preload) - kn * r.gap * n + r.friction().0,
             };
-            mismatch += (constant - block * r.rel - r.force).norm();
+            r.applied = constant - block * r.rel;
+            mismatch += (r.applied - r.force).norm();
             total += r.force.norm();
         }
         // The friction was linearised about the last iterate (its magnitude from the last

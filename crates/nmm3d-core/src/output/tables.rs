@@ -76,13 +76,13 @@ impl History {
 /// accounts after it [J] (`crate::time::energy`; zero in static runs).
 pub fn write_diagnostics(dir: &Path, rows: &[(f64, u64, crate::time::StepReport)]) -> Result<()> {
     let mut s = String::from(
-        "time,step,dt,cuts,displacement_ratio,unbalanced_force_ratio,kinetic_energy,elastic_energy,external_work,contact_energy,friction_dissipation,numerical_dissipation,energy_error\n",
+        "time,step,dt,cuts,displacement_ratio,unbalanced_force_ratio,kinetic_energy,elastic_energy,external_work,contact_energy,friction_dissipation,numerical_dissipation,energy_error,contact_event_dissipation\n",
     );
     for (t, step, r) in rows {
         let e = &r.energy;
         let _ = writeln!(
             s,
-            "{t},{step},{},{},{},{},{},{},{},{},{},{},{}",
+            "{t},{step},{},{},{},{},{},{},{},{},{},{},{},{}",
             r.dt,
             r.cuts,
             r.ratio,
@@ -93,7 +93,8 @@ pub fn write_diagnostics(dir: &Path, rows: &[(f64, u64, crate::time::StepReport)
             e.contact,
             e.friction,
             e.numerical,
-            e.error()
+            e.error(),
+            e.contact_events
         );
     }
     atomic::write(&dir.join("diagnostics.csv"), s.as_bytes())

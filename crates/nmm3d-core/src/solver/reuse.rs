@@ -9,7 +9,9 @@
 //! the thesis slope: 2 300–2 700 of 3 800 points change state in a step's first open–close
 //! iteration, and PCG did not converge in 200 iterations), and PCG's small residual moves the
 //! gaps on which the open–close rules decide (the dominos took twice the iterations). So a
-//! matrix with closed contact springs is always factorised (`docs/theory/solver.md`).
+//! matrix with closed contact springs is factorised (`docs/theory/solver.md`) — unless it is
+//! close to the factor's own matrix entry by entry (`closeness`): the same contact states and
+//! penalties, a co-rotated tangent turned by round-off, as in a block system at rest.
 //!
 //! The result depends on which matrix the factor was made of, so that matrix is part of the
 //! run's state ([`FactorSnapshot`]): a resumed run re-makes the same factor and continues bit
@@ -30,6 +32,9 @@ pub struct FactorReuse {
     pub tolerance: f64,
     /// PCG iterations before the matrix is factorised instead (`krylov_max_iterations`).
     pub max_iterations: u32,
+    /// Largest entrywise difference, relative to the factor's largest entry, at which any
+    /// matrix is near the factor's (`factor_reuse_closeness`; 0: never by closeness).
+    pub closeness: f64,
 }
 
 /// How one system was solved.
@@ -48,6 +53,14 @@ pub struct FactorSource {
     pub pattern: SparsityPattern,
     /// Its values on that pattern.
     pub values: Vec<f64>,
+    /// It was of the kind that the next matrices are near (no contact springs): any `nearby`
+    /// matrix may be solved on it; otherwise only one close to it entry by entry.
+    #[serde(default = "nearby_kind")]
+    pub nearby: bool,
+}
+
+fn nearby_kind() -> bool {
+    true
 }
 
 /// A [`ReusingSolver`]'s state as data (checkpoints).
@@ -101,7 +114,11 @@ impl ReusingSolver {
         rhs: &mut [f64],
         nearby: bool,
     ) -> Result<Solved, SolverFailure> {
-        if nearby && self.source.is_some() && !self.renew {
+        let near = match &self.source {
+            Some(s) => (nearby && s.nearby) || self.close_to_source(values),
+            None => false,
+        };
+        if near && !self.renew {
             let mut x = vec![0.0; rhs.len()];
             let direct = &mut self.direct;
             let (tol, max) = (self.reuse.tolerance, self.reuse.max_iterations);
@@ -133,7 +150,21 @@ impl ReusingSolver {
         Ok(())
     }
 
-    /// Factorise; keep the matrix as the source of reused solves when it is `nearby` kind.
+    /// Whether `values` (on the factor's pattern) are within the closeness of the factor's.
+    fn close_to_source(&self, values: &[f64]) -> bool {
+        let Some(s) = self.source.as_ref().filter(|s| !self.pattern_changed && s.values.len() == values.len()) else {
+            return false;
+        };
+        if self.reuse.closeness <= 0.0 {
+            return false;
+        }
+        let scale = s.values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let limit = self.reuse.closeness * scale;
+        s.values.iter().zip(values).all(|(a, b)| (a - b).abs() <= limit)
+    }
+
+    /// Factorise; keep the matrix as the source of reused solves (marked whether it is of the
+    /// `nearby` kind).
     fn factorize(&mut self, pattern: &SparsityPattern, values: &[f64], nearby: bool) -> Result<(), SolverFailure> {
         let same_pattern = !self.pattern_changed;
         if self.pattern_changed {
@@ -145,13 +176,14 @@ impl ReusingSolver {
         self.direct.factorize(pattern, values)?;
         self.counts.factorizations += 1;
         self.renew = false;
-        if self.reuse.enabled && nearby {
+        if self.reuse.enabled && (nearby || self.reuse.closeness > 0.0) {
             self.source = Some(match old {
-                Some(mut s) if same_pattern => {
+                Some(mut s) if same_pattern && s.values.len() == values.len() => {
                     s.values.copy_from_slice(values);
+                    s.nearby = nearby;
                     s
                 }
-                _ => FactorSource { pattern: pattern.clone(), values: values.to_vec() },
+                _ => FactorSource { pattern: pattern.clone(), values: values.to_vec(), nearby },
             });
         }
         Ok(())
@@ -218,7 +250,7 @@ mod tests {
     }
 
     fn solver(max_iterations: u32) -> ReusingSolver {
-        let reuse = FactorReuse { enabled: true, tolerance: 1e-12, max_iterations };
+        let reuse = FactorReuse { enabled: true, tolerance: 1e-12, max_iterations, closeness: 0.0 };
         ReusingSolver::new(Box::new(FaerCholesky::new(Ordering::Amd)), reuse)
     }
 
@@ -267,6 +299,24 @@ mod tests {
         let mut exact = rhs(p.n);
         solver(4).solve(&p, &far, &mut exact, true).unwrap();
         assert_eq!(x, exact, "the fallback is the direct solve");
+    }
+
+    #[test]
+    fn a_matrix_close_to_the_factors_is_solved_on_it_whatever_its_kind() {
+        // Contact springs (not nearby kind), the same states a step later: the tangent moved
+        // by round-off. A spring that changed moves entries far beyond the closeness.
+        let (p, v0) = grid(5, |_| 6.5);
+        let (_, close) = grid(5, |j| 6.5 * (1.0 + 1e-8 * (j as f64).sin()));
+        let (_, apart) = grid(5, |j| 6.5 * (1.0 + 1e-3 * (j as f64).sin()));
+        let reuse = FactorReuse { enabled: true, tolerance: 1e-12, max_iterations: 20, closeness: 1e-6 };
+        let mut s = ReusingSolver::new(Box::new(FaerCholesky::new(Ordering::Amd)), reuse);
+        assert_eq!(s.solve(&p, &v0, &mut rhs(p.n), false), Ok(Solved::Factorized));
+        let mut x = rhs(p.n);
+        assert!(matches!(s.solve(&p, &close, &mut x, false), Ok(Solved::Krylov(_))), "close to the factor's");
+        let mut exact = rhs(p.n);
+        solver(20).solve(&p, &close, &mut exact, false).unwrap();
+        assert!(max_difference(&x, &exact) <= 1e-10 * exact.iter().map(|x| x.abs()).fold(0.0, f64::max));
+        assert_eq!(s.solve(&p, &apart, &mut rhs(p.n), false), Ok(Solved::Factorized), "a spring changed");
     }
 
     #[test]

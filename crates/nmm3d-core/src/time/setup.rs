@@ -9,8 +9,12 @@ use crate::system::System;
 /// The direct solver (faer's Cholesky) with factor reuse as `[analysis]` asks.
 pub(super) fn solver(sys: &System) -> ReusingSolver {
     let a = &sys.scenario.analysis;
-    let reuse =
-        FactorReuse { enabled: a.factor_reuse, tolerance: a.krylov_tolerance, max_iterations: a.krylov_max_iterations };
+    let reuse = FactorReuse {
+        enabled: a.factor_reuse,
+        tolerance: a.krylov_tolerance,
+        max_iterations: a.krylov_max_iterations,
+        closeness: a.factor_reuse_closeness,
+    };
     ReusingSolver::new(Box::new(FaerCholesky::new(a.ordering)), reuse)
 }
 

@@ -4,6 +4,7 @@
 //! (re-factorised on resume: later solves are preconditioned by it), the penalties as raised,
 //! the force scale, the counters and the energy accounts are kept.
 
+use nmm3d_geom::Vec3;
 use serde::{Deserialize, Serialize};
 
 use super::contact_pattern::{ContactPattern, PatternSnapshot};
@@ -43,6 +44,10 @@ pub struct StepperSnapshot {
     /// checkpoint without it detects at its first step.
     #[serde(default = "never_detected")]
     pub undetected: f64,
+    /// Contact forces on the covers at the end of the last step [N] (energy accounts; a
+    /// checkpoint without them takes the next step's start forces).
+    #[serde(default)]
+    pub contact_end: Vec<Vec3>,
 }
 
 fn never_detected() -> f64 {
@@ -64,6 +69,7 @@ impl Stepper {
             energy: self.energy,
             // Finite: JSON has no infinity.
             undetected: self.undetected.min(f64::MAX),
+            contact_end: self.contact_end.clone(),
         }
     }
 
@@ -97,6 +103,7 @@ impl Stepper {
             cuts: Vec::new(),
             undetected: s.undetected,
             loads: Vec::new(),
+            contact_end: s.contact_end,
         })
     }
 }

@@ -16,7 +16,7 @@ use super::integrator::{Newmark, StepCoefficients};
 use super::setup::{contact_params, solver};
 use super::step_control::{self, Verdict};
 use super::vectors::{equation_vector, gather, kinetic_energy, mass_times, scale, scatter_into, solver_error};
-use crate::contact::{overlap_problems, ContactSet};
+use crate::contact::{overlap_problems, ContactRecord, ContactSet};
 use crate::error::{Error, Result};
 use crate::scenario::AnalysisKind;
 use crate::solver::{ReusingSolver, SolveCounts, Solved};
@@ -91,6 +91,9 @@ pub struct Stepper {
     pub(super) undetected: f64,
     /// The loads of the step being taken: dead loads and water pressure at its start [N].
     pub(super) loads: Vec<Vec3>,
+    /// Contact forces on the covers at the end of the last accepted step (what its
+    /// acceleration carries; empty before the first) [N].
+    pub(super) contact_end: Vec<Vec3>,
 }
 
 impl Stepper {
@@ -123,6 +126,7 @@ impl Stepper {
             cuts: Vec::new(),
             undetected: 0.0,
             loads: Vec::new(),
+            contact_end: Vec::new(),
         };
         stepper.ensure_contact_pattern(sys, 0);
         Ok(stepper)
@@ -209,9 +213,19 @@ impl Stepper {
         let seismic = &sys.scenario.seismic;
         let base_start = self.shaking(sys).then(|| sys.base_force(seismic.acceleration_after(state.time)));
         add_to(&mut start_force, base_start.as_deref());
+        let mut start_contact = vec![Vec3::zeros(); residual.len()];
         if let Some(c) = self.contacts.as_ref() {
-            c.add_start_forces(sys, &mut start_force);
+            c.add_start_forces(sys, &mut start_contact);
         }
+        add_to(&mut start_force, Some(&start_contact));
+        // The contact forces the start acceleration carries: the last step's end forces, except
+        // at the first step (see `m_a0` below).
+        let contact_start = if self.energy.is_some() && self.contact_end.len() == residual.len() {
+            &self.contact_end
+        } else {
+            &start_contact
+        };
+        let contact_start = contact_start.clone();
         let unbalanced = self.unbalanced_ratio(sys, &start_force);
         let (mv, ma) = (mass_times(sys, &state.v), mass_times(sys, &state.a));
         let mut start_records = self.contacts.as_ref().map(|c| c.records.clone());
@@ -227,7 +241,7 @@ impl Stepper {
             dt = seismic.next_jump(state.time).map_or(dt, |b| dt.min(b - state.time));
             jump_acceleration(sys, state);
         }
-        let (mut cuts, mut trials) = (0, 0);
+        let (mut cuts, mut trials, mut arrivals) = (0, 0, 0);
         loop {
             let k = if self.inertia {
                 self.newmark.coefficients(dt)
@@ -253,6 +267,17 @@ impl Stepper {
             let trial = Trial { residual: trial_residual, mv: &mv, ma: &ma, k };
             let (d, iterations, settled) = self.open_close(sys, state, &trial)?;
             let dmax = d.iter().map(|x| x.norm()).fold(0.0, f64::max);
+            // Lagged verification, where the blocks may have moved into a contact unseen: not
+            // while nothing has moved by the contact tolerance since the last detection.
+            let moved = self.contacts.as_ref().is_some_and(|c| self.undetected + dmax >= c.params.tolerance);
+            if settled
+                && moved
+                && arrivals < sys.scenario.contact.arrival_rounds
+                && self.arrivals(sys, state, &d, start_records.as_mut())
+            {
+                arrivals += 1;
+                continue;
+            }
             let ratio = dmax / (analysis.max_displacement_ratio * sys.half_size);
             // Contacts overlapping beyond the allowed depth: the penalty is too soft for the
             // loads — raise it (×10, at most three times in a run) and repeat the step; after
@@ -304,6 +329,19 @@ impl Stepper {
                         }
                         None => (0, 0.0, 0.0, 0.0),
                     };
+                    let mut contact_end = vec![Vec3::zeros(); d.len()];
+                    if let Some(c) = self.contacts.as_ref() {
+                        c.add_end_forces(sys, &mut contact_end);
+                    }
+                    // The contacts' work on the blocks by the scheme's rule (the mean of the
+                    // forces its start and end accelerations carry).
+                    let contact_work: f64 = d
+                        .iter()
+                        .zip(&contact_start)
+                        .zip(&contact_end)
+                        .map(|((d, f0), f1)| 0.5 * d.dot(&(f0 + f1)))
+                        .sum();
+                    self.contact_end = contact_end;
                     state.dt = step_control::next_dt(analysis, dt, ratio);
                     // M a₀: the scheme's acceleration at the start (the last step's end), except at
                     // the first step, where the unbalanced force stands for it.
@@ -319,6 +357,7 @@ impl Stepper {
                             kinetic0,
                             friction,
                             springs: (springs0, springs),
+                            contact_work,
                         },
                     );
                     return Ok(StepReport {
@@ -349,6 +388,22 @@ impl Stepper {
                 }
             }
         }
+    }
+
+    /// Whether contact points arrived during the trial that ends at `state` + `d` (see
+    /// [`ContactSet::arrivals`]): they join the step's start records and the pattern, and the
+    /// step is solved again.
+    fn arrivals(&mut self, sys: &System, state: &State, d: &[Vec3], saved: Option<&mut Vec<ContactRecord>>) -> bool {
+        let (Some(c), Some(saved)) = (self.contacts.as_mut(), saved) else { return false };
+        let mut end = state.clone();
+        end.u.iter_mut().zip(d).for_each(|(u, d)| *u += d);
+        let added = c.arrivals(sys, state, &end);
+        if added.is_empty() {
+            return false;
+        }
+        saved.extend(added);
+        self.ensure_contact_pattern(sys, state.step);
+        true
     }
 
     /// Why the trial of `dt` is rejected, and the blocks responsible.
@@ -387,6 +442,9 @@ impl Stepper {
         let f_int: Vec<Vec3> = self.loads.iter().zip(s.residual).map(|(f, r)| f - r).collect();
         let x = equation_vector(sys, s.d);
         let elastic = dot(&f_int) + 0.5 * sys.assembler.pattern.quadratic_form(&self.tangent, &x);
+        // The springs' energy at the end of the last step (the bodies never see a change of it
+        // between steps — points found or lost by a detection — only the forces applied).
+        let springs_before = self.energy.map_or(s.springs.0, |e| e.contact);
         let m_a1 = mass_times(sys, &state.a);
         let kinetic = kinetic_energy(sys, &state.v, &mass_times(sys, &state.v));
         let inertial: f64 = s.d.iter().zip(s.m_a0).zip(&m_a1).map(|((d, a0), a1)| 0.5 * d.dot(&(a0 + a1))).sum();
@@ -397,6 +455,7 @@ impl Stepper {
             contact: s.springs.1,
             friction: s.friction,
             numerical: inertial - (kinetic - s.kinetic0),
+            contact_events: -s.contact_work - (s.springs.1 - springs_before) - s.friction,
             initial: 0.0,
         };
         let energy = self.energy.get_or_insert_with(|| Energy::start(s.kinetic0, s.springs.0));
@@ -544,4 +603,6 @@ struct Increment<'a> {
     friction: f64,
     /// Contact spring energy at the start and the end of the step [J].
     springs: (f64, f64),
+    /// Work of the contact forces on the blocks over the step [J].
+    contact_work: f64,
 }

@@ -99,6 +99,11 @@ pub struct Analysis {
     /// PCG iterations before the matrix is factorised instead; a factor that needed more
     /// than half of them is renewed at the next solve (addition).
     pub krylov_max_iterations: u32,
+    /// A matrix whose every entry differs from the last factorised one's by at most this
+    /// fraction of that matrix's largest entry is solved on its factor whatever its contact
+    /// springs (the same contact states, a block system at rest); 0: only matrices without
+    /// closed contacts are [-] (addition).
+    pub factor_reuse_closeness: f64,
     /// Memory a run may plan to use [B]; a scenario estimated beyond it is refused as input;
     /// 0 = 80 % of this machine's memory (addition).
     pub max_memory: f64,
@@ -161,6 +166,7 @@ impl Default for Analysis {
             factor_reuse: true,
             krylov_tolerance: 1e-10,
             krylov_max_iterations: 12,
+            factor_reuse_closeness: 1e-6,
             max_memory: 0.0,
         }
     }
@@ -286,6 +292,10 @@ pub struct ContactSpec {
     /// Closings of a point within one step's open–close iterations after which it stays open
     /// (addition).
     pub max_reclose: u32,
+    /// Rounds per step of lagged verification: detection on a trial's end configuration adds
+    /// the points that arrived during the step unseen, and the step is solved again (0: off)
+    /// (addition).
+    pub arrival_rounds: u32,
     /// Change of a sliding point's friction force between two open–close iterations, relative
     /// to the largest friction limit, that counts as settled (about a 1° turn) [-] (addition).
     pub slip_turn: f64,
@@ -316,6 +326,7 @@ impl Default for ContactSpec {
             gap_band: 1e-10,
             reclose_depth: 1e-3,
             max_reclose: 2,
+            arrival_rounds: 3,
             slip_turn: 0.017_45,
             touching: 1e-3,
             min_area_share: 0.05,
