@@ -5,7 +5,8 @@
 //! * r > 1: the step is rejected and repeated with Δt ← Δt · max(`max_step_cut`, target / r), not below
 //!   `min_dt_ratio · dt`; at the smallest step, r ≤ `divergence_ratio` is accepted, more is
 //!   divergence;
-//! * accepted: the next Δt = min(dt, remaining time, Δt · min(max_dt_growth, target / r)).
+//! * accepted: the next Δt = min(dt, remaining time, Δt · min(max_dt_growth, target / r)), at
+//!   least `min_dt_ratio · dt`.
 
 use crate::scenario::Analysis;
 
@@ -51,10 +52,12 @@ pub fn judge_unsettled(a: &Analysis, dt: f64) -> Verdict {
     }
 }
 
-/// Step size after an accepted step of size `dt` with ratio `r`.
+/// Step size after an accepted step of size `dt` with ratio `r`, never below the smallest
+/// step: a step accepted there with r > 1 (its displacement does not shrink with Δt) would
+/// otherwise shrink the next one geometrically, and the run would stall without a word.
 pub fn next_dt(a: &Analysis, dt: f64, r: f64) -> f64 {
     let grow = if r > 0.0 { (a.target_displacement_ratio / r).min(a.max_dt_growth) } else { a.max_dt_growth };
-    (dt * grow).min(a.dt)
+    (dt * grow).min(a.dt).max(a.min_dt_ratio * a.dt)
 }
 
 #[cfg(test)]
@@ -71,6 +74,8 @@ mod tests {
         assert_eq!(judge(&a, 1e-7, 1e9), Verdict::Diverged);
         assert!((next_dt(&a, 1e-4, 0.1) - 1.2e-4).abs() < 1e-18);
         assert_eq!(next_dt(&a, 1e-3, 0.0), 1e-3);
+        // Accepted at the smallest step with r > 1: the next step is not smaller still.
+        assert_eq!(next_dt(&a, a.min_dt_ratio * a.dt, 10.0), a.min_dt_ratio * a.dt);
     }
 
     #[test]
