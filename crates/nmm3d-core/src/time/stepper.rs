@@ -221,11 +221,10 @@ impl Stepper {
         // The contact forces the start acceleration carries: the last step's end forces, except
         // at the first step (see `m_a0` below).
         let contact_start = if self.energy.is_some() && self.contact_end.len() == residual.len() {
-            &self.contact_end
+            std::mem::take(&mut self.contact_end)
         } else {
-            &start_contact
+            start_contact
         };
-        let contact_start = contact_start.clone();
         let unbalanced = self.unbalanced_ratio(sys, &start_force);
         let (mv, ma) = (mass_times(sys, &state.v), mass_times(sys, &state.a));
         let mut start_records = self.contacts.as_ref().map(|c| c.records.clone());
