@@ -5,11 +5,14 @@
 //! * Partition of unity and linear reproduction at random points: Σ w_a(x) = 1 and
 //!   Σ w_a(x) X_a = x.
 //! * Physical covers: a body cut into two touching boxes gives two sets of covers.
+//! * Aggregation: every cover that keeps its own DOFs has an ME of at least the threshold ×
+//!   its block's fullest ME (also in blocks smaller than a sub-cell), and a tied cover's
+//!   masters reproduce its position (linear extrapolation).
 
 mod common;
 
 use common::Lcg;
-use nmm3d_core::cover::{Covers, MathMesh, PatternTable};
+use nmm3d_core::cover::{aggregation, Covers, MathMesh, PatternTable};
 use nmm3d_core::model::{Block, Elastic, Geometry};
 use nmm3d_core::scenario::{Material, PatternKind};
 use nmm3d_geom::{ConvexPolyhedron, Plane, Vec3};
@@ -133,5 +136,66 @@ fn separate_blocks_get_separate_physical_covers() {
     assert_eq!(covers.covers.len(), 54);
     for e in &covers.elements {
         assert!(e.covers.iter().all(|&c| covers.covers[c].block == e.block));
+    }
+}
+
+/// The fraction of its sub-cell that each ME fills.
+fn fractions(covers: &Covers) -> Vec<f64> {
+    let s3 = covers.mesh.size.powi(3);
+    covers.elements.iter().map(|e| e.volume / (covers.pattern.of_cell(e.cell)[e.subcell].shape.volume() * s3)).collect()
+}
+
+#[test]
+fn covers_without_a_substantial_me_are_tied_even_in_blocks_smaller_than_a_sub_cell() {
+    let threshold = 0.1;
+    let mut rng = Lcg(0x511CE);
+    for case in 0..16 {
+        // Slivers (a slab 0.02–0.1 of the cover size thick and 0.3–0.8 wide, smaller than a
+        // sub-cell) and ordinary blocks, at random places and angles.
+        let mesh = random_mesh(&mut rng);
+        let body = if case % 2 == 0 {
+            let h = mesh.size;
+            let centre = Vec3::new(rng.next(), rng.next(), rng.next()) * 3.0;
+            let n = Vec3::new(rng.next() - 0.5, rng.next() - 0.5, rng.next() - 0.5).normalize();
+            let (a, b) = (n.cross(&Vec3::x()).normalize(), n.cross(&n.cross(&Vec3::x())).normalize());
+            let (thick, wide) = ((0.02 + 0.08 * rng.next()) * h, (0.3 + 0.5 * rng.next()) * h);
+            let planes = [(n, thick), (a, wide), (b, wide)]
+                .into_iter()
+                .flat_map(|(d, half)| [d, -d].map(|d| Plane::from_point_normal(centre + d * (0.5 * half), d).unwrap()))
+                .collect::<Vec<_>>();
+            ConvexPolyhedron::from_planes(&planes).unwrap()
+        } else {
+            random_convex(&mut rng)
+        };
+        for kind in PATTERNS {
+            let covers = Covers::build(&geometry(vec![body.clone()]), mesh.clone(), PatternTable::new(kind));
+            let tied = aggregation::tie_ill_posed(&covers, &[false], threshold);
+            let f = fractions(&covers);
+            let fullest = f.iter().copied().fold(0.0, f64::max).min(1.0);
+            for (c, t) in tied.iter().enumerate() {
+                let best = covers
+                    .elements
+                    .iter()
+                    .zip(&f)
+                    .filter(|(e, _)| e.covers.contains(&c))
+                    .map(|(_, f)| *f)
+                    .fold(0.0, f64::max);
+                match t {
+                    None => assert!(
+                        best >= threshold * fullest,
+                        "case {case} {kind:?}: cover {c} keeps its DOFs on an ME of {best:.2e} (fullest {fullest:.2e})"
+                    ),
+                    Some(masters) => {
+                        let x: Vec3 = masters.iter().map(|&(m, w)| covers.covers[m].position * w).sum();
+                        let w: f64 = masters.iter().map(|m| m.1).sum();
+                        assert!((w - 1.0).abs() < 1e-9, "case {case} {kind:?}: weights sum to {w}");
+                        let err = (x - covers.covers[c].position).norm();
+                        assert!(err < 1e-9 * covers.mesh.size, "case {case} {kind:?}: cover {c} off by {err:.2e}");
+                        assert!(masters.iter().all(|&(m, _)| tied[m].is_none()), "case {case}: a master is tied");
+                    }
+                }
+            }
+            assert!(tied.iter().any(Option::is_none), "case {case} {kind:?}: the block kept no DOFs");
+        }
     }
 }

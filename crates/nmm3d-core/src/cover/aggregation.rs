@@ -5,7 +5,8 @@
 //! the cover's displacement is dominated by round-off (and by free co-rotation of the sliver).
 //! Following aggregated FEM (Badia, Verdugo & Martín 2018, "The aggregated unfitted finite
 //! element method for elliptic problems", CMAME 336), an ME is *well posed* when its volume is
-//! at least `threshold` × its sub-cell's; a cover with no well-posed ME is *tied*: its
+//! at least `threshold` × its sub-cell's (× the largest such fraction of its block, for blocks
+//! smaller than a sub-cell); a cover with no well-posed ME is *tied*: its
 //! displacement is the linear extrapolation, through the weight functions of the nearest
 //! well-posed ME of the same block, of that ME's covers. Linear fields are still reproduced
 //! exactly (patch test) and the condition number is bounded by the threshold.
@@ -27,11 +28,20 @@ pub fn tie_ill_posed(covers: &Covers, fixed_block: &[bool], threshold: f64) -> V
         return tied;
     }
     let s3 = covers.mesh.size.powi(3);
-    let well_posed: Vec<bool> = covers
+    let fraction: Vec<f64> = covers
         .elements
         .iter()
-        .map(|e| e.volume >= threshold * covers.pattern.of_cell(e.cell)[e.subcell].shape.volume() * s3)
+        .map(|e| e.volume / (covers.pattern.of_cell(e.cell)[e.subcell].shape.volume() * s3))
         .collect();
+    // Measured against the block's fullest ME: a block smaller than a sub-cell (a sliver
+    // between joints) has no ME above the threshold, and its pieces of 1e-11 of a cell would
+    // otherwise keep their own DOFs (a cover of 2e-12 kg thrown metres in a 0.1 µs step).
+    let mut fullest = vec![0.0_f64; fixed_block.len()];
+    for (e, me) in covers.elements.iter().enumerate() {
+        fullest[me.block] = fullest[me.block].max(fraction[e]);
+    }
+    let well_posed: Vec<bool> =
+        covers.elements.iter().zip(&fraction).map(|(me, f)| *f >= threshold * fullest[me.block].min(1.0)).collect();
     let mut anchored = vec![false; covers.covers.len()];
     let mut roots: HashMap<(usize, [i32; 3]), Vec<usize>> = HashMap::new();
     for (e, me) in covers.elements.iter().enumerate().filter(|(e, _)| well_posed[*e]) {
