@@ -168,7 +168,7 @@ fn covers_without_a_substantial_me_are_tied_even_in_blocks_smaller_than_a_sub_ce
             random_convex(&mut rng)
         };
         for kind in PATTERNS {
-            let covers = Covers::build(&geometry(vec![body.clone()]), mesh.clone(), PatternTable::new(kind));
+            let covers = Covers::build(&geometry(vec![body.clone()]), mesh, PatternTable::new(kind));
             let tied = aggregation::tie_ill_posed(&covers, &[false], threshold);
             let f = fractions(&covers);
             let fullest = f.iter().copied().fold(0.0, f64::max).min(1.0);

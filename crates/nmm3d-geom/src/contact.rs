@@ -241,14 +241,116 @@ fn contact_on_axis(
     let (nb, na) = (b.normals.len(), a.normals.len());
     let face_b = (m < nb).then(|| b.faces[m].as_slice());
     let face_a = (nb <= m && m < nb + na).then(|| a.faces[m - nb].as_slice());
-    let (points, area) =
+    let (mut points, mut area) =
         contact_points((&a.vertices, face_a), (&b.vertices, face_b), &normal, params.support_tolerance);
+    if let [corner] = points.as_slice() {
+        if let Some(crossing) = past_the_face((a, face_a), (b, face_b), &normal, corner, params.support_tolerance) {
+            (points, area) = (crossing, 0.0);
+        }
+    }
     let points = thin(points, params.thin_distance);
     let approaching = approaching((a, face_a), (b, face_b), &normal, params)
         .into_iter()
         .filter(|p| points.iter().all(|q| (q.on_a - p.on_a).norm() >= params.thin_distance))
         .collect();
     Contact { normal, separation, points, area, approaching }
+}
+
+/// A single corner that is the support of one piece but lies past the edge of the other's face
+/// that gives the plane (as projected) is no contact point: what overlaps there are the edges
+/// running from it, crossing that face's edges. The points are then the corners of the overlap
+/// of the face with the footprint of the piece's part beyond the face's plane, each at the
+/// piece's surface above it (`None` when the corner projects inside the face). Measured on the
+/// thesis slope: such a corner 13 cm past an edge gave a point whose spring never held the
+/// blocks, which then crossed by 4 cm and were pushed apart with energy from nowhere.
+fn past_the_face(
+    (a, face_a): (&Prepared, Option<&[usize]>),
+    (b, face_b): (&Prepared, Option<&[usize]>),
+    n: &Vec3,
+    corner: &ContactPoint,
+    tol: f64,
+) -> Option<Vec<ContactPoint>> {
+    // The face's piece `f` (its outward normal `m` towards the other), the corner's piece `o`.
+    let (f, face, o, m, x) = match (face_a, face_b) {
+        (_, Some(face)) => (b, face, a, *n, corner.on_a),
+        (Some(face), None) => (a, face, b, -n, corner.on_b),
+        (None, None) => return None,
+    };
+    let flat = |v: &Vec3| v - m * m.dot(v);
+    let on_face: Vec<Vec3> = face.iter().map(|&i| f.vertices[i]).collect();
+    let outline = hull(&on_face.iter().map(flat).collect::<Vec<_>>(), &m);
+    let scale = f.vertices.iter().chain(&o.vertices).map(|x| x.norm()).fold(1.0, f64::max);
+    let eps = 1e-9 * scale;
+    // A corner past the edge by less than the support tolerance is on the face (round-off).
+    if outline.len() < 3 || inside(&outline, &flat(&x), &m, tol) {
+        return None;
+    }
+    // The part of `o` beyond the face's plane (below its top along m): vertices and edge crossings.
+    let level = on_face.iter().map(|v| m.dot(v)).fold(f64::NEG_INFINITY, f64::max);
+    let mut part: Vec<Vec3> = o.vertices.iter().filter(|v| m.dot(v) <= level).map(flat).collect();
+    for e in &o.edges {
+        let (p, q) = (o.vertices[e.ends.0], o.vertices[e.ends.1]);
+        let (hp, hq) = (m.dot(&p) - level, m.dot(&q) - level);
+        if hp * hq < 0.0 {
+            part.push(flat(&(p + (q - p) * (hp / (hp - hq)))));
+        }
+    }
+    // Where the gap can be least: the corners of that overlap, the piece's corners over the
+    // face and its edges crossing the face's edges (its lower surface is convex, the face flat).
+    let mut at = overlap_2d(&hull(&part, &m), &outline, &m, eps);
+    at.extend(o.vertices.iter().filter(|v| m.dot(v) <= level).map(flat).filter(|p| inside(&outline, p, &m, eps)));
+    for e in o.edges.iter().filter(|e| m.dot(&o.vertices[e.ends.0]).min(m.dot(&o.vertices[e.ends.1])) <= level) {
+        let (p, q) = (flat(&o.vertices[e.ends.0]), flat(&o.vertices[e.ends.1]));
+        for i in 0..outline.len() {
+            at.extend(segment_overlap(p, q, outline[i], outline[(i + 1) % outline.len()], &m, eps));
+        }
+    }
+    let height = height_field(&on_face, &m);
+    let points = at
+        .into_iter()
+        .filter_map(|p| {
+            let (zo, zf) = (lower_surface(o, &p, &m)?, height(&p));
+            let near = |v: &[Vec3]| v.iter().any(|w| (flat(w) - p).norm() <= 1e-7 * scale);
+            let (of_o, of_f) = (near(&o.vertices), near(&on_face));
+            let (on_o, on_f) = (p + m * zo, p + m * zf);
+            let (mode, on_a, on_b) = match (face_b.is_some(), of_o, of_f) {
+                (true, true, _) => (Mode::VertexOfA, on_o, on_f),
+                (true, _, true) => (Mode::VertexOfB, on_o, on_f),
+                (true, ..) => (Mode::EdgeEdge, on_o, on_f),
+                (false, true, _) => (Mode::VertexOfB, on_f, on_o),
+                (false, _, true) => (Mode::VertexOfA, on_f, on_o),
+                (false, ..) => (Mode::EdgeEdge, on_f, on_o),
+            };
+            let gap = zo - zf;
+            (gap <= tol).then_some(ContactPoint { mode, on_a, on_b, gap })
+        })
+        .collect();
+    Some(points)
+}
+
+/// Whether flat point `p` lies inside the counter-clockwise (about `n`) outline, within `eps`.
+fn inside(outline: &[Vec3], p: &Vec3, n: &Vec3, eps: f64) -> bool {
+    (0..outline.len()).all(|i| {
+        let (q, r) = (outline[i], outline[(i + 1) % outline.len()]);
+        (r - q).cross(&(p - q)).dot(n) >= -eps * (r - q).norm()
+    })
+}
+
+/// Height along `m` where the line through flat point `p` enters piece `o` from below (`None`
+/// when it misses the piece).
+fn lower_surface(o: &Prepared, p: &Vec3, m: &Vec3) -> Option<f64> {
+    let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
+    for (face, k) in o.faces.iter().zip(&o.normals) {
+        // k·(p + t m − q) ≤ 0 on the inside of the face's plane.
+        let (km, kd) = (k.dot(m), k.dot(&(o.vertices[face[0]] - p)));
+        if km < 0.0 {
+            lo = lo.max(kd / km);
+        } else if km > 0.0 {
+            hi = hi.min(kd / km);
+        }
+    }
+    let tol = 1e-9 * (lo.abs() + hi.abs()).max(1.0);
+    (lo.is_finite() && lo <= hi + tol).then_some(lo)
 }
 
 /// The vertices of one piece approaching the other's face that gives the plane (see
@@ -283,11 +385,7 @@ fn approaching(
         .filter_map(|v| {
             let p = flat(v);
             let gap = s * (height(&p) - n.dot(v));
-            let inside = (0..outline.len()).all(|i| {
-                let (q, r) = (outline[i], outline[(i + 1) % outline.len()]);
-                (r - q).cross(&(p - q)).dot(n) >= -eps * (r - q).norm()
-            });
-            (gap <= params.margin && inside).then(|| {
+            (gap <= params.margin && inside(&outline, &p, n, eps)).then(|| {
                 let on_face = p + n * height(&p);
                 let (on_a, on_b) = if s > 0.0 { (on_face, *v) } else { (*v, on_face) };
                 ContactPoint { mode, on_a, on_b, gap }
@@ -495,6 +593,7 @@ fn height_field(s: &[Vec3], n: &Vec3) -> impl Fn(&Vec3) -> f64 {
 mod tests {
     use super::*;
     use crate::math::rotation_xyz_deg;
+    use crate::polyhedron::{Face, FaceTag};
 
     fn cube(c: Vec3, s: f64) -> ConvexPolyhedron {
         ConvexPolyhedron::from_box(c - Vec3::repeat(s / 2.0), c + Vec3::repeat(s / 2.0))
@@ -737,6 +836,54 @@ mod tests {
         assert!(!c.points.is_empty(), "no contact points on plane {:?} ({})", c.normal, c.separation);
         let corner = Vec3::new(1.5003915190866954, 0.3955736324630418, 0.9139805407157683);
         assert!(c.points.iter().any(|p| (p.on_b - corner).norm() < 1e-3), "{:?}", c.points);
+    }
+
+    #[test]
+    fn a_corner_past_the_edge_of_the_face_gives_the_edges_crossing_it() {
+        // Two deformed blocks of the thesis slope (case A, t = 1.55 s): A's lowest corner is
+        // 3.6 cm below B's top face plane but 13 cm past its edge; the pieces cross by 3.5 cm
+        // where A's edges pass over that edge. Every point must lie on both pieces and the
+        // crossing must be there.
+        let piece = |v: &[[f64; 3]], f: &[[usize; 4]]| {
+            let v: Vec<Vec3> = v.iter().map(|x| Vec3::new(x[0], x[1], x[2])).collect();
+            // Deformed faces are planar only nearly: built as they are, not checked.
+            let faces = f.iter().map(|f| Face { vertices: f.iter().map(|&i| v[i]).collect(), tag: FaceTag(0) });
+            ConvexPolyhedron { faces: faces.collect() }
+        };
+        let a = piece(
+            &[
+                [15.457535075887264, 6.080725117115364, -9.163805753588832],
+                [15.437496713071212, 7.047814876969904, -9.19169532480454],
+                [15.35431091287133, 7.067064074270376, -8.4644540278994],
+                [15.374878738300932, 6.074420198653891, -8.43582766608965],
+                [12.607871425094682, 7.029868582964288, -7.781006349157121],
+                [12.946389547195174, 7.054871776045165, -7.157222620942074],
+                [12.968093777088512, 6.007382924929311, -7.12701461199671],
+                [12.629154984212033, 6.002681266067915, -7.751383941185907],
+            ],
+            &[[0, 1, 2, 3], [2, 1, 4, 5], [3, 2, 5, 6], [1, 0, 7, 4], [0, 3, 6, 7], [5, 4, 7, 6]],
+        );
+        let b = piece(
+            &[
+                [15.454998130514326, 6.137869284369886, -10.000014599225615],
+                [15.441680016499726, 7.0741746613231555, -9.988546385367785],
+                [15.333971104422975, 7.061769927135985, -9.10087029088706],
+                [15.347733402086291, 6.094241337963161, -9.11272104308922],
+                [12.14117765447914, 7.007443284652363, -8.373486534506043],
+                [12.494405708073613, 7.004357365847104, -7.711363156454576],
+                [12.155490738765469, 6.001253373253354, -8.38581190989441],
+                [12.509024135570082, 5.97670405230599, -7.723951518463921],
+            ],
+            &[[0, 1, 2, 3], [2, 1, 4, 5], [1, 0, 6, 4], [3, 2, 5, 7], [6, 0, 3, 7], [5, 4, 6, 7]],
+        );
+        let c = detect(&a, &b, &DetectParams { margin: 0.301, support_tolerance: 1e-3, thin_distance: 1e-2 })
+            .expect("within the margin");
+        assert!(!c.points.is_empty(), "no points on plane {:?} ({})", c.normal, c.separation);
+        for p in &c.points {
+            assert!(a.contains(&p.on_a, 1e-6) && b.contains(&p.on_b, 1e-6), "a point off the pieces: {p:?}");
+        }
+        let deepest = c.points.iter().map(|p| p.gap).fold(f64::INFINITY, f64::min);
+        assert!(deepest < -0.03, "the 3.5 cm crossing is not represented: {:?}", c.points);
     }
 
     #[test]
