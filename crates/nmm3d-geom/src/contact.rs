@@ -244,7 +244,9 @@ fn contact_on_axis(
     let (mut points, mut area) =
         contact_points((&a.vertices, face_a), (&b.vertices, face_b), &normal, params.support_tolerance);
     if let [corner] = points.as_slice() {
-        if let Some(crossing) = past_the_face((a, face_a), (b, face_b), &normal, corner, params.support_tolerance) {
+        if let Some(crossing) =
+            past_the_face((a, face_a), (b, face_b), &normal, corner, (params.support_tolerance, params.thin_distance))
+        {
             (points, area) = (crossing, 0.0);
         }
     }
@@ -268,7 +270,7 @@ fn past_the_face(
     (b, face_b): (&Prepared, Option<&[usize]>),
     n: &Vec3,
     corner: &ContactPoint,
-    tol: f64,
+    (tol, near): (f64, f64),
 ) -> Option<Vec<ContactPoint>> {
     // The face's piece `f` (its outward normal `m` towards the other), the corner's piece `o`.
     let (f, face, o, m, x) = match (face_a, face_b) {
@@ -281,8 +283,10 @@ fn past_the_face(
     let outline = hull(&on_face.iter().map(flat).collect::<Vec<_>>(), &m);
     let scale = f.vertices.iter().chain(&o.vertices).map(|x| x.norm()).fold(1.0, f64::max);
     let eps = 1e-9 * scale;
-    // A corner past the edge by less than the support tolerance is on the face (round-off).
-    if outline.len() < 3 || inside(&outline, &flat(&x), &m, tol) {
+    // A corner past the edge by less than the thinning distance is the point: the crossings
+    // would lie within that distance of it, and swapping them for it as the corner passes the
+    // edge gave the dominos a step of energy.
+    if outline.len() < 3 || inside(&outline, &flat(&x), &m, near) {
         return None;
     }
     // The part of `o` beyond the face's plane (below its top along m): vertices and edge crossings.
