@@ -260,11 +260,13 @@ fn contact_on_axis(
 
 /// A single corner that is the support of one piece but lies past the edge of the other's face
 /// that gives the plane (as projected) is no contact point: what overlaps there are the edges
-/// running from it, crossing that face's edges. The points are then the corners of the overlap
-/// of the face with the footprint of the piece's part beyond the face's plane, each at the
-/// piece's surface above it (`None` when the corner projects inside the face). Measured on the
-/// thesis slope: such a corner 13 cm past an edge gave a point whose spring never held the
-/// blocks, which then crossed by 4 cm and were pushed apart with energy from nowhere.
+/// running from it, crossing that face's edges. The points are then where the gap can be
+/// least — the corners of the overlap of the face with the footprint of the piece's part beyond
+/// the face's plane, the piece's corners over the face and its edges crossing the face's edges —
+/// each at the piece's surface above it, kept where within the support tolerance (`None` when
+/// the corner projects inside the face). Measured on the thesis slope: such a corner 13 cm past
+/// an edge gave a point whose spring never held the blocks, which then crossed by 3.5 cm and
+/// were pushed apart with energy from nowhere.
 fn past_the_face(
     (a, face_a): (&Prepared, Option<&[usize]>),
     (b, face_b): (&Prepared, Option<&[usize]>),
