@@ -293,7 +293,8 @@ fn past_the_face(
     }
     // The part of `o` beyond the face's plane (below its top along m): vertices and edge crossings.
     let level = on_face.iter().map(|v| m.dot(v)).fold(f64::NEG_INFINITY, f64::max);
-    let mut part: Vec<Vec3> = o.vertices.iter().filter(|v| m.dot(v) <= level).map(flat).collect();
+    let beyond: Vec<Vec3> = o.vertices.iter().filter(|v| m.dot(v) <= level).map(flat).collect();
+    let mut part = beyond.clone();
     for e in &o.edges {
         let (p, q) = (o.vertices[e.ends.0], o.vertices[e.ends.1]);
         let (hp, hq) = (m.dot(&p) - level, m.dot(&q) - level);
@@ -304,7 +305,7 @@ fn past_the_face(
     // Where the gap can be least: the corners of that overlap, the piece's corners over the
     // face and its edges crossing the face's edges (its lower surface is convex, the face flat).
     let mut at = overlap_2d(&hull(&part, &m), &outline, &m, eps);
-    at.extend(o.vertices.iter().filter(|v| m.dot(v) <= level).map(flat).filter(|p| inside(&outline, p, &m, eps)));
+    at.extend(beyond.into_iter().filter(|p| inside(&outline, p, &m, eps)));
     for e in o.edges.iter().filter(|e| m.dot(&o.vertices[e.ends.0]).min(m.dot(&o.vertices[e.ends.1])) <= level) {
         let (p, q) = (flat(&o.vertices[e.ends.0]), flat(&o.vertices[e.ends.1]));
         for i in 0..outline.len() {
@@ -312,6 +313,9 @@ fn past_the_face(
         }
     }
     let height = height_field(&on_face, &m);
+    let o_is_a = face_b.is_some();
+    let (vertex_of_o, vertex_of_f) =
+        if o_is_a { (Mode::VertexOfA, Mode::VertexOfB) } else { (Mode::VertexOfB, Mode::VertexOfA) };
     let points = at
         .into_iter()
         .filter_map(|p| {
@@ -319,14 +323,12 @@ fn past_the_face(
             let near = |v: &[Vec3]| v.iter().any(|w| (flat(w) - p).norm() <= 1e-7 * scale);
             let (of_o, of_f) = (near(&o.vertices), near(&on_face));
             let (on_o, on_f) = (p + m * zo, p + m * zf);
-            let (mode, on_a, on_b) = match (face_b.is_some(), of_o, of_f) {
-                (true, true, _) => (Mode::VertexOfA, on_o, on_f),
-                (true, _, true) => (Mode::VertexOfB, on_o, on_f),
-                (true, ..) => (Mode::EdgeEdge, on_o, on_f),
-                (false, true, _) => (Mode::VertexOfB, on_f, on_o),
-                (false, _, true) => (Mode::VertexOfA, on_f, on_o),
-                (false, ..) => (Mode::EdgeEdge, on_f, on_o),
+            let mode = match (of_o, of_f) {
+                (true, _) => vertex_of_o,
+                (_, true) => vertex_of_f,
+                _ => Mode::EdgeEdge,
             };
+            let (on_a, on_b) = if o_is_a { (on_o, on_f) } else { (on_f, on_o) };
             let gap = zo - zf;
             (gap <= tol).then_some(ContactPoint { mode, on_a, on_b, gap })
         })
