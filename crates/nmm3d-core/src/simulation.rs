@@ -446,6 +446,7 @@ fn summary(
         "step_cuts": rec.cuts,
         "penetration_cuts": stepper.penetration_cuts,
         "penalty_raises": stepper.penalty_raises,
+        "missed_overlaps": stepper.contacts().map_or(0, |c| c.missed_overlaps),
         "pattern_rebuilds": stepper.pattern_rebuilds(),
         "factor_nonzeros": stepper.factor_nonzeros(),
         "factorizations": stepper.solve_counts().factorizations,

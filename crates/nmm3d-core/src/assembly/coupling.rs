@@ -25,6 +25,12 @@ const UPPER: u32 = u32::MAX;
 impl Coupling {
     /// The scatter of `covers` into `pattern`, which must couple all their free nodes.
     pub fn new(pattern: &SparsityPattern, dofs: &DofMap, covers: &[usize]) -> Self {
+        Self::try_new(pattern, dofs, covers).expect("the pattern holds the coupling")
+    }
+
+    /// The scatter of `covers` into `pattern`, or `None` when the pattern lacks a coupling of
+    /// two of their free nodes.
+    pub fn try_new(pattern: &SparsityPattern, dofs: &DofMap, covers: &[usize]) -> Option<Self> {
         let mut nodes: Vec<usize> = Vec::new();
         let mut spread = Vec::new();
         let node_of = |c: usize, nodes: &mut Vec<usize>| match nodes.iter().position(|&x| x == c) {
@@ -47,15 +53,9 @@ impl Coupling {
         let offsets = blocks
             .iter()
             .flat_map(|&p| blocks.iter().map(move |&q| (p, q)))
-            .map(|(p, q)| {
-                if p >= q {
-                    pattern.block_offset(p as usize, q as usize).expect("the pattern holds the coupling")
-                } else {
-                    UPPER
-                }
-            })
-            .collect();
-        Self { blocks, spread, offsets }
+            .map(|(p, q)| if p >= q { pattern.block_offset(p as usize, q as usize) } else { Some(UPPER) })
+            .collect::<Option<Vec<u32>>>()?;
+        Some(Self { blocks, spread, offsets })
     }
 
     /// Number of nodes m.

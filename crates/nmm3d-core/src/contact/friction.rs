@@ -95,6 +95,8 @@ mod tests {
             times: ContactTimes::default(),
             locked: false,
             last_changes: Vec::new(),
+            travel: crate::contact::travel::Travel::default(),
+            missed_overlaps: 0,
         }
     }
 

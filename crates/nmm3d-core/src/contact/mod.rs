@@ -26,8 +26,8 @@
 //! One concept per file: [`record`] (a point and its identity), [`transfer`] (what a new point
 //! inherits), [`rules`] (the open–close state rules), [`penalty`] (springs), [`friction`]
 //! (Coulomb friction), [`assemble`] (the contact terms of the system), [`detect`] (the detection
-//! driver), [`set`] (all points of a run), on the surfaces of [`surface`] and the material
-//! points of [`point`].
+//! driver), [`travel`] (which pairs need detecting again), [`set`] (all points of a run), on the
+//! surfaces of [`surface`] and the material points of [`point`].
 
 pub mod assemble;
 pub mod broad;
@@ -42,6 +42,7 @@ pub mod set;
 pub mod snapshot;
 pub mod surface;
 pub mod transfer;
+pub mod travel;
 
 pub use assemble::pair_clique;
 pub use record::{ContactParams, ContactRecord, ContactState, Strength};

@@ -4,6 +4,7 @@
 use super::broad::Warning;
 use super::record::{ContactParams, ContactRecord, ContactState};
 use super::surface::ContactPiece;
+use super::travel::Travel;
 use crate::error::Problem;
 use crate::system::System;
 
@@ -22,6 +23,11 @@ pub struct ContactSet {
     pub locked: bool,
     /// Block pairs of the points that changed state in the last open–close iteration.
     pub last_changes: Vec<(usize, usize)>,
+    /// How far the blocks have moved since each pair was last detected.
+    pub travel: Travel,
+    /// Points found overlapping deeper than a detection lets one arise (bounded, see
+    /// `transfer::bound_missed_overlap`).
+    pub missed_overlaps: u64,
 }
 
 /// Seconds spent in the contact phases.

@@ -1,9 +1,10 @@
 //! The system matrix's pattern while contacts come and go: the elements' pattern plus one
 //! clique per pair of MEs with a closed contact point. It grows (with a new symbolic analysis)
-//! when a pair closes that it lacks — also between a step's open–close iterations — and pairs
-//! not closed for [`RETAIN_STEPS`] steps are dropped at the next growth, so the fill follows the
-//! contacts of the moment: open points near each other (side faces of neighbouring blocks
-//! within the detection margin) add no stiffness and would only add fill.
+//! when a pair closes whose covers it does not couple yet — also between a step's open–close
+//! iterations; a pair whose covers it couples already (a block on a fixed block) only gets its
+//! scatter. Pairs not closed for [`RETAIN_STEPS`] steps are dropped at the next growth, so the
+//! fill follows the contacts of the moment: open points near each other (side faces of
+//! neighbouring blocks within the detection margin) add no stiffness and would only add fill.
 //!
 //! The elastic tangent and the mass stay on the elements' pattern (their scatter maps never
 //! change); each matrix to factorise is gathered onto the current pattern through one map.
@@ -70,8 +71,9 @@ impl ContactPattern {
         for &p in closed {
             let _ = self.last_closed.insert(p, step);
         }
-        let held = |p: &(usize, usize)| self.grown.as_ref().is_some_and(|g| g.couplings.contains_key(p));
-        if closed.iter().all(held) {
+        let held = |p: &&(usize, usize)| self.grown.as_ref().is_some_and(|g| g.couplings.contains_key(*p));
+        let missing: Vec<(usize, usize)> = closed.iter().filter(|p| !held(p)).copied().collect();
+        if missing.is_empty() || self.fit(sys, &missing) {
             return false;
         }
         self.last_closed.retain(|_, &mut last| last + RETAIN_STEPS >= step);
@@ -79,6 +81,28 @@ impl ContactPattern {
         pairs.sort_unstable();
         self.grow(sys, &pairs);
         self.rebuilds += 1;
+        true
+    }
+
+    /// Add the pairs whose covers the pattern already couples, if all are (a block on a fixed
+    /// one: the fixed covers carry no equations; covers that an earlier pair or an ME couples):
+    /// the pattern and its symbolic analysis stay. False (nothing added) if one is not.
+    fn fit(&mut self, sys: &System, pairs: &[(usize, usize)]) -> bool {
+        let pattern = self.pattern(sys);
+        let fitted: Option<Vec<_>> = pairs
+            .iter()
+            .map(|&(a, b)| Coupling::try_new(pattern, &sys.dofs, &pair_clique(sys, a, b)).map(|c| ((a, b), c)))
+            .collect();
+        let Some(fitted) = fitted else { return false };
+        let grown = self.grown.get_or_insert_with(|| {
+            let elements = &sys.assembler.pattern;
+            Grown {
+                pattern: elements.clone(),
+                from_elements: elements.embedding(elements),
+                couplings: FxHashMap::default(),
+            }
+        });
+        grown.couplings.extend(fitted);
         true
     }
 

@@ -324,6 +324,7 @@ impl Stepper {
                     let (contacts, max_penetration, friction, springs) = match self.contacts.as_mut() {
                         Some(c) => {
                             let friction = c.accept();
+                            c.travel.add(sys, &d);
                             (c.records.len(), c.max_penetration(), friction, c.spring_energy())
                         }
                         None => (0, 0.0, 0.0, 0.0),
