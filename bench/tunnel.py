@@ -36,6 +36,7 @@ EXAMPLE = ROOT / "examples" / "tunnel_key_blocks.toml"
 # Block 17's centroid (`nmm3d blocks examples/tunnel_key_blocks.toml`) and its sliding joint.
 KEY_POINT = [6.2975, 0.9939, -0.2883]
 JOINT_DIP, JOINT_DIP_DIRECTION = 35.0, 200.0
+CRITICAL_ANGLE = JOINT_DIP  # sliding on one plane: φc = the plane's dip
 G = 9.8
 CASES = [("φ = 59° (thesis): rests", 59.0), ("φ = 30°: the key block slides out and falls", 30.0)]
 PHASES = ["assembly", "contact_detection", "contact_pattern", "factorization", "krylov", "contact_open_close"]
@@ -53,7 +54,7 @@ def run_case(phi: float, duration: float, out: str) -> dict:
     result = nmm3d.Scenario.from_dict(data).run(out=out)
     row = {k: result.summary.get(k) for k in KEYS}
     h = result.history
-    row["history"] = {k: [float(x) for x in h[k]] for k in h.columns if k == "time" or k.startswith("key.")}
+    row["history"] = {k: [float(x) for x in h[k]] for k in h if k == "time" or k.startswith("key.")}
     return row
 
 
@@ -124,7 +125,11 @@ def write(rows: list, duration: float) -> None:
     for label, _, r in rows:
         phi = next(p for name, p in CASES if name == label)
         fit = sliding(r, phi)
-        lines.append(f"| {label} | " + ("holds (φ ≥ φc) | | |" if fit is None else f"{fit[0]:.3f} | {fit[1]:.3f} | {fit[2]:.2f} |"))
+        if fit is None:
+            why = "holds (φ ≥ φc)" if phi >= CRITICAL_ANGLE else "has not slid 1 cm"
+            lines.append(f"| {label} | {why} | | |")
+        else:
+            lines.append(f"| {label} | {fit[0]:.3f} | {fit[1]:.3f} | {fit[2]:.2f} |")
     plot(rows)
     lines += [
         "",

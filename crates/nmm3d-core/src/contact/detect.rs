@@ -16,7 +16,7 @@ use super::facets::{self, Candidate};
 use super::record::{ContactParams, ContactRecord, ContactState};
 use super::set::{ContactSet, ContactTimes};
 use super::surface::ContactPiece;
-use super::transfer::{bound_missed_overlap, inherit};
+use super::transfer::{bound_missed_overlap, inherit, REACH};
 use super::travel::Travel;
 use crate::scenario::Joint;
 use crate::state::State;
@@ -163,7 +163,7 @@ impl ContactSet {
         // the pieces' faces).
         let found = self.find(sys, end, &current, (&pairs, 0.5 * self.params.tolerance));
         let p = self.params;
-        let reach = 10.0 * p.tolerance;
+        let reach = REACH * p.tolerance;
         let mut added = Vec::new();
         for (i, j, normal, points) in found {
             let blocks = (self.pieces[i].block, self.pieces[j].block);

@@ -23,7 +23,7 @@ pub(super) fn inherit(
     }
     (r.gap0, r.gap) = (q_gap - r.offset, q_gap - r.offset);
     let tan_phi = r.strength.tan_phi;
-    if let Some(old) = nearest_old.filter(|o| (o.a.reference - r.a.reference).norm() < 10.0 * p.tolerance) {
+    if let Some(old) = nearest_old.filter(|o| (o.a.reference - r.a.reference).norm() < REACH * p.tolerance) {
         if old.state != ContactState::Open {
             // Still closed unless the springs would pull harder than the bond holds.
             let pull = r.kn * r.gap0 - r.normal.dot(&old.preload);
@@ -51,8 +51,10 @@ pub(super) fn inherit(
 }
 
 /// Bound an overlap that a detection found deeper than one can arise between two detections:
-/// by more than the support tolerance beyond what the nearest previous point within the
-/// transfer distance had (beyond touching where there was none). It was missed by an earlier
+/// beyond the deepest previous point of its pair (beyond touching where there was none) by more
+/// than the transfer distance — a pair closes by at most the support tolerance between two
+/// detections, and the lagged verification adds every point arriving deeper within a step
+/// unless a point of the pair lies within the transfer distance. It was missed by an earlier
 /// detection, not made in this step, and its spring would push it out at once with energy
 /// from nowhere (½ k_n δ² — 4 MJ on the thesis slope from a 10 cm overlap that a corrected
 /// material point revealed). The excess goes into the zero level (`raised`, as a raise of the
@@ -64,8 +66,8 @@ pub(super) fn bound_missed_overlap(
     candidates: Option<&Vec<usize>>,
     p: &ContactParams,
 ) -> bool {
-    let old = nearest(previous, candidates, &r.a.reference, 10.0 * p.tolerance);
-    let floor = old.map_or(0.0, |o| o.gap.min(o.gap0).min(0.0)) - p.tolerance;
+    let deepest = candidates.into_iter().flatten().map(|&k| previous[k].gap.min(previous[k].gap0));
+    let floor = deepest.fold(0.0, f64::min) - REACH * p.tolerance;
     if r.gap0 >= floor {
         return false;
     }
@@ -77,6 +79,10 @@ pub(super) fn bound_missed_overlap(
     r.limit = r.coulomb_limit(r.gap0);
     true
 }
+
+/// The transfer distance, in support tolerances: a new point within it of a previous one is
+/// that point (thesis Part 3-B; the lagged verification's "known" points likewise).
+pub(super) const REACH: f64 = 10.0;
 
 /// The previous point (among `candidates`) nearest `x` within `reach`.
 fn nearest<'a>(
@@ -166,19 +172,20 @@ mod tests {
     fn an_overlap_found_deeper_than_a_detection_lets_one_arise_is_bounded() {
         let p = ContactParams::for_test();
         let tol = p.tolerance;
-        // No predecessor: found 10 tolerances deep, kept one tolerance deep, the rest in the zero level.
-        let mut r = new_at(0.0, -10.0 * tol);
+        // No point in the pair before: found 30 tolerances deep, kept at the transfer distance
+        // (10), the rest in the zero level.
+        let mut r = new_at(0.0, -30.0 * tol);
         assert!(bound_missed_overlap(&mut r, &[], None, &p));
-        assert!((r.gap0 + tol).abs() < 1e-15 && (r.raised + 9.0 * tol).abs() < 1e-15);
-        assert!((-(r.gap + r.raised) - 10.0 * tol).abs() < 1e-15, "the geometric overlap is still reported");
-        // A predecessor as deep: nothing was missed.
-        let mut old = old_at(0.0, ContactState::Stick);
-        (old.gap0, old.gap) = (-9.5 * tol, -9.5 * tol);
-        let mut r = new_at(0.001, -10.0 * tol);
+        assert!((r.gap0 + 10.0 * tol).abs() < 1e-15 && (r.raised + 20.0 * tol).abs() < 1e-15);
+        assert!((-(r.gap + r.raised) - 30.0 * tol).abs() < 1e-15, "the geometric overlap is still reported");
+        // A point of the pair as deep, however far away: nothing was missed.
+        let mut old = old_at(5.0, ContactState::Stick);
+        (old.gap0, old.gap) = (-25.0 * tol, -25.0 * tol);
+        let mut r = new_at(0.0, -30.0 * tol);
         assert!(!bound_missed_overlap(&mut r, &[old], Some(&vec![0]), &p));
-        assert_eq!(r.gap0, -10.0 * tol);
-        // Within a tolerance of touching: an arrival, left as it is.
-        let mut r = new_at(0.0, -0.5 * tol);
+        assert_eq!(r.gap0, -30.0 * tol);
+        // Within the transfer distance of touching: an arrival near a known point, left as it is.
+        let mut r = new_at(0.0, -9.0 * tol);
         assert!(!bound_missed_overlap(&mut r, &[], None, &p));
     }
 
