@@ -20,12 +20,17 @@ impl ContactRecord {
         self.ks *= factor;
         self.shear0 /= factor;
         if self.state != ContactState::Open && self.gap0 < 0.0 {
-            let shift = self.gap0 * (1.0 - 1.0 / factor);
-            self.offset += shift;
-            self.raised += shift;
-            self.gap0 -= shift;
-            self.gap -= shift;
+            self.shift_zero_level(self.gap0 * (1.0 - 1.0 / factor));
         }
+    }
+
+    /// Move `shift` (≤ 0) of the overlap into the zero level: the spring no longer pushes it
+    /// out, `raised` keeps it so the geometric overlap −(gap + raised) is still reported.
+    pub(super) fn shift_zero_level(&mut self, shift: f64) {
+        self.offset += shift;
+        self.raised += shift;
+        self.gap0 -= shift;
+        self.gap -= shift;
     }
 
     /// The point's spring in its current state, linearised: stiffness (3 × 3) and the constant

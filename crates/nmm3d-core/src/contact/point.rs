@@ -44,17 +44,19 @@ impl MaterialPoint {
 /// Barycentric coordinates of the point of triangle (a, b, c) nearest `p` (clamped), and the
 /// distance to it.
 pub(crate) fn barycentric(p: &Vec3, a: &Vec3, b: &Vec3, c: &Vec3) -> ([f64; 3], f64) {
+    let Some((v, w)) = in_plane(p, a, b, c) else { return ([1.0, 0.0, 0.0], (p - a).norm()) };
+    let v = v.clamp(0.0, 1.0);
+    let w = w.clamp(0.0, 1.0 - v);
+    let q = a + v * (b - a) + w * (c - a);
+    ([1.0 - v - w, v, w], (p - q).norm())
+}
+
+/// Coordinates (v, w) of the projection of `p` onto the plane of triangle (a, b, c), unclamped:
+/// a + v (b − a) + w (c − a). `None` for a degenerate triangle.
+pub(crate) fn in_plane(p: &Vec3, a: &Vec3, b: &Vec3, c: &Vec3) -> Option<(f64, f64)> {
     let (e1, e2, d) = (b - a, c - a, p - a);
     let (d11, d12, d22) = (e1.dot(&e1), e1.dot(&e2), e2.dot(&e2));
     let (d1, d2) = (d.dot(&e1), d.dot(&e2));
     let den = d11 * d22 - d12 * d12;
-    if den <= 0.0 {
-        return ([1.0, 0.0, 0.0], (p - a).norm());
-    }
-    let mut v = (d22 * d1 - d12 * d2) / den;
-    let mut w = (d11 * d2 - d12 * d1) / den;
-    v = v.clamp(0.0, 1.0);
-    w = w.clamp(0.0, 1.0 - v);
-    let q = a + v * e1 + w * e2;
-    ([1.0 - v - w, v, w], (p - q).norm())
+    (den > 0.0).then(|| ((d22 * d1 - d12 * d2) / den, (d11 * d2 - d12 * d1) / den))
 }

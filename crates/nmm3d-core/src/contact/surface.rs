@@ -4,7 +4,7 @@
 use nmm3d_geom::{ConvexPolyhedron, Face, FaceTag, Vec3};
 
 use super::facets::{facets_of_piece, Facet};
-use super::point::{barycentric, MaterialPoint};
+use super::point::{barycentric, in_plane, MaterialPoint};
 use crate::state::State;
 use crate::system::System;
 
@@ -100,20 +100,12 @@ impl ContactPiece {
             }) else {
                 continue;
             };
-            let (a, e1, e2) = (fv[0], fv[i] - fv[0], fv[i + 1] - fv[0]);
-            let normal = e1.cross(&e2);
-            if normal.norm() == 0.0 {
-                continue;
-            }
-            let off_plane = normal.normalize().dot(&(p - a)).abs();
+            let normal = (fv[i] - fv[0]).cross(&(fv[i + 1] - fv[0]));
+            let Some((v, w)) = in_plane(p, &fv[0], &fv[i], &fv[i + 1]) else { continue };
+            let off_plane = normal.normalize().dot(&(p - fv[0])).abs();
             if off_plane > best.0 {
                 continue;
             }
-            let d = p - a;
-            let (d11, d12, d22) = (e1.dot(&e1), e1.dot(&e2), e2.dot(&e2));
-            let den = d11 * d22 - d12 * d12;
-            let v = (d22 * d.dot(&e1) - d12 * d.dot(&e2)) / den;
-            let w = (d11 * d.dot(&e2) - d12 * d.dot(&e1)) / den;
             let r = |j: usize| self.vertices[ids[j]].reference;
             best = (off_plane, Some(r(0) + v * (r(i) - r(0)) + w * (r(i + 1) - r(0))));
         }

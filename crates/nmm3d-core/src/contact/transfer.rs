@@ -71,11 +71,7 @@ pub(super) fn bound_missed_overlap(
     if r.gap0 >= floor {
         return false;
     }
-    let shift = r.gap0 - floor;
-    r.offset += shift;
-    r.raised += shift;
-    r.gap0 -= shift;
-    r.gap -= shift;
+    r.shift_zero_level(r.gap0 - floor);
     r.limit = r.coulomb_limit(r.gap0);
     true
 }
