@@ -105,6 +105,22 @@ def test_no_files_import_each_other():
         assert not cycles(imports(root)), f"{root}: files in an import cycle: {cycles(imports(root))}"
 
 
+MAX_LINES = 450
+"""Longest source file, test modules not counted: a file past it holds more than one concept."""
+
+
+def source_lines(path: Path) -> int:
+    return len(path.read_text().split("#[cfg(test)]")[0].splitlines())
+
+
+def test_no_source_file_is_longer_than_the_bound():
+    crates = ROOT / "crates"
+    long = {str(f.relative_to(ROOT)): n for f in crates.glob("*/src/**/*.rs") if (n := source_lines(f)) >= MAX_LINES}
+    assert not long, f"files of {MAX_LINES} lines or more (split them by concept): {long}"
+
+
 def test_the_checks_can_fail():
     assert cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}}) == [["a", "b", "c"]]
     assert cycles({"a": {"b"}, "b": set()}) == []
+    assert source_lines(ROOT / "crates" / "nmm3d-geom" / "src" / "contact.rs") < len(
+        (ROOT / "crates" / "nmm3d-geom" / "src" / "contact.rs").read_text().splitlines())

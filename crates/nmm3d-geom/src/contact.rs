@@ -25,9 +25,12 @@
 //!    overlap strip — parallel edges, or nearly touching corners — gives one point per end, not
 //!    pairs of near-duplicates (Solfec's sparsification, `dom.c`).
 
+use crate::flat::{height_field, hull, inside, overlap_2d, segment_overlap, support};
 use crate::math::Vec3;
 use crate::polygon;
 use crate::polyhedron::ConvexPolyhedron;
+use crate::prepared::minkowski_face;
+pub use crate::prepared::Prepared;
 
 /// Which features meet at a contact point.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -71,67 +74,6 @@ pub struct Contact {
     /// next detection already deep, to be pushed out with energy from nowhere (DDA detects
     /// every vertex within its step's reach for the same reason: Shi 1988, ch. 4).
     pub approaching: Vec<ContactPoint>,
-}
-
-/// A piece prepared for detection: its distinct vertices, faces (vertex indices), edges,
-/// centroid and outward unit face normals — computed once per piece, not once per pair it is in.
-#[derive(Debug, Clone)]
-pub struct Prepared {
-    vertices: Vec<Vec3>,
-    faces: Vec<Vec<usize>>,
-    edges: Vec<Edge>,
-    centroid: Vec3,
-    normals: Vec<Vec3>,
-}
-
-/// An edge: its two vertices and the two faces meeting there.
-#[derive(Debug, Clone, Copy)]
-struct Edge {
-    ends: (usize, usize),
-    faces: (usize, usize),
-}
-
-impl Prepared {
-    /// Prepare a convex polyhedron.
-    pub fn new(p: &ConvexPolyhedron) -> Self {
-        let vertices = p.vertices();
-        let tol = 1e-12 * p.aabb().diagonal();
-        let id = |x: &Vec3| vertices.iter().position(|w| (w - x).norm() <= tol).expect("a face vertex is a vertex");
-        let faces: Vec<Vec<usize>> = p.faces.iter().map(|f| f.vertices.iter().map(id).collect()).collect();
-        let mut edges: Vec<Edge> = Vec::new();
-        for (fi, f) in faces.iter().enumerate() {
-            for i in 0..f.len() {
-                let (a, b) = (f[i], f[(i + 1) % f.len()]);
-                let ends = (a.min(b), a.max(b));
-                if a == b {
-                    continue;
-                }
-                match edges.iter_mut().find(|e| e.ends == ends) {
-                    Some(e) => e.faces.1 = fi,
-                    None => edges.push(Edge { ends, faces: (fi, fi) }),
-                }
-            }
-        }
-        let centroid = vertices.iter().sum::<Vec3>() / vertices.len() as f64;
-        let normals = p.faces.iter().map(|f| f.area_vector().normalize()).collect();
-        Self { vertices, faces, edges, centroid, normals }
-    }
-}
-
-/// Whether edge `ea` of A and edge `eb` of B build a face of the Minkowski difference A − B:
-/// the arcs of their adjacent face normals cross on the Gauss map (normals of B negated).
-/// Gregorius, "The Separating Axis Test between Convex Polyhedra", GDC 2013.
-fn minkowski_face(a: &Prepared, ea: &Edge, b: &Prepared, eb: &Edge) -> bool {
-    let (u1, u2) = (a.normals[ea.faces.0], a.normals[ea.faces.1]);
-    let (v1, v2) = (-b.normals[eb.faces.0], -b.normals[eb.faces.1]);
-    let (u_arc, v_arc) = (u2.cross(&u1), v2.cross(&v1));
-    let (cba, dba) = (v1.dot(&u_arc), v2.dot(&u_arc));
-    let (adc, bdc) = (u1.dot(&v_arc), u2.dot(&v_arc));
-    cba * dba < 0.0 && adc * bdc < 0.0 && cba * bdc > 0.0
-}
-
-fn support(points: &[Vec3], n: &Vec3) -> (f64, f64) {
-    points.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(n.dot(v)), hi.max(n.dot(v))))
 }
 
 /// Separations within this fraction of the coordinates' scale (at least within the support
@@ -319,7 +261,7 @@ fn past_the_face(
     let points = at
         .into_iter()
         .filter_map(|p| {
-            let (zo, zf) = (lower_surface(o, &p, &m)?, height(&p));
+            let (zo, zf) = (o.lower_surface(&p, &m)?, height(&p));
             let near = |v: &[Vec3]| v.iter().any(|w| (flat(w) - p).norm() <= 1e-7 * scale);
             let (of_o, of_f) = (near(&o.vertices), near(&on_face));
             let (on_o, on_f) = (p + m * zo, p + m * zf);
@@ -334,31 +276,6 @@ fn past_the_face(
         })
         .collect();
     Some(points)
-}
-
-/// Whether flat point `p` lies inside the counter-clockwise (about `n`) outline, within `eps`.
-fn inside(outline: &[Vec3], p: &Vec3, n: &Vec3, eps: f64) -> bool {
-    (0..outline.len()).all(|i| {
-        let (q, r) = (outline[i], outline[(i + 1) % outline.len()]);
-        (r - q).cross(&(p - q)).dot(n) >= -eps * (r - q).norm()
-    })
-}
-
-/// Height along `m` where the line through flat point `p` enters piece `o` from below (`None`
-/// when it misses the piece).
-fn lower_surface(o: &Prepared, p: &Vec3, m: &Vec3) -> Option<f64> {
-    let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
-    for (face, k) in o.faces.iter().zip(&o.normals) {
-        // k·(p + t m − q) ≤ 0 on the inside of the face's plane.
-        let (km, kd) = (k.dot(m), k.dot(&(o.vertices[face[0]] - p)));
-        if km < 0.0 {
-            lo = lo.max(kd / km);
-        } else if km > 0.0 {
-            hi = hi.min(kd / km);
-        }
-    }
-    let tol = 1e-9 * (lo.abs() + hi.abs()).max(1.0);
-    (lo.is_finite() && lo <= hi + tol).then_some(lo)
 }
 
 /// The vertices of one piece approaching the other's face that gives the plane (see
@@ -415,35 +332,6 @@ fn thin(points: Vec<ContactPoint>, d: f64) -> Vec<ContactPoint> {
     out
 }
 
-/// 2-D convex hull (counter-clockwise about `n`) of points on a plane, by gift wrapping order.
-fn hull(points: &[Vec3], n: &Vec3) -> Vec<Vec3> {
-    let mut p: Vec<Vec3> = Vec::new();
-    let scale = points.iter().map(|x| x.norm()).fold(1.0, f64::max);
-    for x in points {
-        if !p.iter().any(|y| (y - x).norm() <= 1e-12 * scale) {
-            p.push(*x);
-        }
-    }
-    if p.len() < 3 {
-        return p;
-    }
-    polygon::sort_ccw(&mut p, n);
-    // Drop points that are not corners (collinear or inside after angular sort around the centroid).
-    let mut changed = true;
-    while changed && p.len() > 3 {
-        changed = false;
-        for i in 0..p.len() {
-            let (a, b, c) = (p[(i + p.len() - 1) % p.len()], p[i], p[(i + 1) % p.len()]);
-            if (b - a).cross(&(c - b)).dot(n) <= 1e-12 * scale * scale {
-                let _ = p.remove(i);
-                changed = true;
-                break;
-            }
-        }
-    }
-    p
-}
-
 /// The contact points and the overlap area. Each side's support is its face giving the plane,
 /// if any, else its vertices within `tol` of its extreme level along n.
 fn contact_points(
@@ -488,113 +376,6 @@ fn contact_points(
         })
         .collect();
     (points, area)
-}
-
-/// Overlap of two flat convex sets (polygon, segment or point), as its corner points.
-fn overlap_2d(a: &[Vec3], b: &[Vec3], n: &Vec3, eps: f64) -> Vec<Vec3> {
-    match (a.len(), b.len()) {
-        (0, _) | (_, 0) => Vec::new(),
-        (1, _) => vec![a[0]],
-        (_, 1) => vec![b[0]],
-        (2, 2) => segment_overlap(a[0], a[1], b[0], b[1], n, eps),
-        (2, _) => clip_segment(a[0], a[1], b, n, eps),
-        (_, 2) => clip_segment(b[0], b[1], a, n, eps),
-        _ => polygon::intersect_convex(a, b, n, eps),
-    }
-}
-
-/// Where two coplanar segments (as projected) meet: their crossing point, or for parallel
-/// overlapping segments (parallel edges) the two ends of the overlap.
-fn segment_overlap(p0: Vec3, p1: Vec3, q0: Vec3, q1: Vec3, n: &Vec3, eps: f64) -> Vec<Vec3> {
-    let (d, e) = (p1 - p0, q1 - q0);
-    let den = d.cross(&e).dot(n);
-    if den.abs() <= eps * d.norm().max(e.norm()) {
-        if d.cross(&(q0 - p0)).dot(n).abs() > eps * d.norm() {
-            return Vec::new(); // parallel, apart
-        }
-        let t = |q: Vec3| (q - p0).dot(&d) / d.norm_squared();
-        let (a, b) = (t(q0).min(t(q1)).max(0.0), t(q0).max(t(q1)).min(1.0));
-        return if a <= b { vec![p0 + a * d, p0 + b * d] } else { Vec::new() };
-    }
-    let t = (q0 - p0).cross(&e).dot(n) / den;
-    let s = (q0 - p0).cross(&d).dot(n) / den;
-    if (0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&s) {
-        vec![p0 + t * d]
-    } else {
-        Vec::new()
-    }
-}
-
-/// The part of a segment inside a convex polygon (its two end points).
-fn clip_segment(p0: Vec3, p1: Vec3, poly: &[Vec3], n: &Vec3, eps: f64) -> Vec<Vec3> {
-    let (mut t0, mut t1) = (0.0f64, 1.0f64);
-    let k = poly.len();
-    for i in 0..k {
-        let (a, b) = (poly[i], poly[(i + 1) % k]);
-        let out = (b - a).cross(n); // outward normal of edge a→b (polygon counter-clockwise about n)
-        let (s0, s1) = (out.dot(&(p0 - a)), out.dot(&(p1 - a)));
-        if s0 > eps && s1 > eps {
-            return Vec::new();
-        }
-        if s0 > eps || s1 > eps {
-            let t = s0 / (s0 - s1);
-            if s0 > eps {
-                t0 = t0.max(t)
-            } else {
-                t1 = t1.min(t)
-            }
-        }
-    }
-    if t0 > t1 {
-        return Vec::new();
-    }
-    vec![p0 + t0 * (p1 - p0), p0 + t1 * (p1 - p0)]
-}
-
-/// Height (along n) of a support set at a flat point: the plane through it for ≥ 3 points,
-/// interpolation along an edge for 2, the vertex's height for 1.
-fn height_field(s: &[Vec3], n: &Vec3) -> impl Fn(&Vec3) -> f64 {
-    let pts: Vec<Vec3> = s.to_vec();
-    let n = *n;
-    move |p: &Vec3| {
-        let flat = |v: &Vec3| v - n * n.dot(v);
-        match pts.len() {
-            0 => 0.0,
-            1 => n.dot(&pts[0]),
-            2 => {
-                let (a, b) = (flat(&pts[0]), flat(&pts[1]));
-                let t = if (b - a).norm() > 0.0 {
-                    ((p - a).dot(&(b - a)) / (b - a).norm_squared()).clamp(0.0, 1.0)
-                } else {
-                    0.0
-                };
-                n.dot(&pts[0]) * (1.0 - t) + n.dot(&pts[1]) * t
-            }
-            _ => {
-                // Least-squares plane h = h0 + g·(p − c) through the support points.
-                let c: Vec3 = pts.iter().map(flat).sum::<Vec3>() / pts.len() as f64;
-                let h0: f64 = pts.iter().map(|v| n.dot(v)).sum::<f64>() / pts.len() as f64;
-                let u = polygon::any_perpendicular(&n);
-                let w = n.cross(&u);
-                let (mut suu, mut suw, mut sww, mut su, mut sw) = (0.0, 0.0, 0.0, 0.0, 0.0);
-                for v in &pts {
-                    let (x, y, h) = ((flat(v) - c).dot(&u), (flat(v) - c).dot(&w), n.dot(v) - h0);
-                    suu += x * x;
-                    suw += x * y;
-                    sww += y * y;
-                    su += x * h;
-                    sw += y * h;
-                }
-                let det = suu * sww - suw * suw;
-                let (gu, gw) = if det.abs() > 1e-300 {
-                    ((su * sww - sw * suw) / det, (sw * suu - su * suw) / det)
-                } else {
-                    (0.0, 0.0)
-                };
-                h0 + gu * (p - c).dot(&u) + gw * (p - c).dot(&w)
-            }
-        }
-    }
 }
 
 #[cfg(test)]

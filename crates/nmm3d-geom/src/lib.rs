@@ -17,12 +17,14 @@ pub mod clip;
 pub mod contact;
 pub mod decompose;
 pub mod error;
+pub mod flat;
 pub mod integrate;
 pub mod math;
 pub mod orientation;
 pub mod plane;
 pub mod polygon;
 pub mod polyhedron;
+pub mod prepared;
 pub mod winding;
 
 pub use aabb::Aabb;

@@ -16,7 +16,7 @@ use super::facets::{self, Candidate};
 use super::record::{ContactParams, ContactRecord, ContactState};
 use super::set::{ContactSet, ContactTimes};
 use super::surface::ContactPiece;
-use super::transfer::{bound_missed_overlap, inherit, REACH};
+use super::transfer::{bound_missed_overlap, detection_floor, inherit, REACH};
 use super::travel::Travel;
 use crate::scenario::Joint;
 use crate::state::State;
@@ -90,7 +90,7 @@ impl ContactSet {
             for q in points {
                 let mut r = ContactRecord::fresh(sys, q, blocks, normal, joint, initial, &p);
                 inherit(&mut r, &previous, by_pair.get(&blocks), &p, self.locked);
-                if !initial && bound_missed_overlap(&mut r, &previous, by_pair.get(&blocks), &p) {
+                if !initial && bound_missed_overlap(&mut r, detection_floor(&previous, by_pair.get(&blocks), &p)) {
                     self.missed_overlaps += 1;
                 }
                 self.records.push(r);
@@ -177,7 +177,10 @@ impl ContactSet {
                 q.gap = normal.dot(&(q.a.position(sys, start) - q.b.position(sys, start)));
                 let mut r = ContactRecord::fresh(sys, q, blocks, normal, joint, false, &p);
                 inherit(&mut r, &self.records, Some(&same), &p, self.locked);
-                if bound_missed_overlap(&mut r, &self.records, Some(&same), &p) {
+                // A point that arrives already overlapping at the step's start by more than the
+                // tolerance was missed, not made by this trial (a pair's points move by less
+                // than the tolerance between its detections).
+                if bound_missed_overlap(&mut r, -p.tolerance) {
                     self.missed_overlaps += 1;
                 }
                 added.push(r);

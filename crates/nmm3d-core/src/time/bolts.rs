@@ -13,23 +13,23 @@ use crate::system::System;
 /// A bolt within this fraction of its yield force is yielding.
 const YIELD_TOLERANCE: f64 = 1e-9;
 
-impl Stepper {
-    /// Add the unbroken bolts' springs to the tangent and their forces to `residual`.
-    pub(super) fn add_bolts(&mut self, sys: &System, state: &State, residual: &mut [Vec3]) {
-        let first = sys.covers.elements.len();
-        for (k, (b, s)) in sys.bolts.iter().zip(&state.bolts).enumerate().filter(|(_, (_, s))| !s.broken) {
-            let tension = b.tension(b.elongation(&state.u), s.plastic);
-            let yielding = tension.abs() >= b.yield_force * (1.0 - YIELD_TOLERANCE);
-            let tension = if yielding { tension.signum() * b.yield_force } else { tension };
-            for (&c, w) in b.covers.iter().zip(&b.weights) {
-                residual[c] -= w * tension * b.axis;
-            }
-            if !yielding {
-                sys.assembler.add(&mut self.tangent, first + k, &b.local_matrix());
-            }
+/// Add the unbroken bolts' forces to `residual` and their springs to `tangent` if given.
+pub(super) fn add_bolts(sys: &System, state: &State, residual: &mut [Vec3], mut tangent: Option<&mut Vec<f64>>) {
+    let first = sys.covers.elements.len();
+    for (k, (b, s)) in sys.bolts.iter().zip(&state.bolts).enumerate().filter(|(_, (_, s))| !s.broken) {
+        let tension = b.tension(b.elongation(&state.u), s.plastic);
+        let yielding = tension.abs() >= b.yield_force * (1.0 - YIELD_TOLERANCE);
+        let tension = if yielding { tension.signum() * b.yield_force } else { tension };
+        for (&c, w) in b.covers.iter().zip(&b.weights) {
+            residual[c] -= w * tension * b.axis;
+        }
+        if let (false, Some(t)) = (yielding, tangent.as_deref_mut()) {
+            sys.assembler.add(t, first + k, &b.local_matrix());
         }
     }
+}
 
+impl Stepper {
     /// After an accepted step: each bolt yields or breaks at its elongation.
     pub(super) fn update_bolts(&self, sys: &System, state: &mut State) {
         for (b, s) in sys.bolts.iter().zip(state.bolts.iter_mut()) {

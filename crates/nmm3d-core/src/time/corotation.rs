@@ -99,19 +99,32 @@ fn tensile_part(s: &Mat3) -> Mat3 {
 /// bent plates (large deflections converge); compression is left out so the matrix stays
 /// positive definite. The tangent only steers the iteration: the force is exact either way.
 pub fn internal_force_and_tangent(sys: &System, state: &State, e: usize, r: &Mat3) -> (Vec<Vec3>, Vec<f64>) {
+    forces(sys, state, e, r, true)
+}
+
+/// Internal force of ME `e` per cover alone (as [`internal_force_and_tangent`]).
+pub fn internal_force(sys: &System, state: &State, e: usize, r: &Mat3) -> Vec<Vec3> {
+    forces(sys, state, e, r, false).0
+}
+
+/// The force, and the tangent when `with_tangent` (empty otherwise).
+fn forces(sys: &System, state: &State, e: usize, r: &Mat3, with_tangent: bool) -> (Vec<Vec3>, Vec<f64>) {
     let k = sys.kernel(e);
     let n = k.n;
     let u = local_displacements(sys, state, e, r);
-    let tension = tensile_part(&local_stress(sys, e, &u));
+    let tension = if with_tangent { tensile_part(&local_stress(sys, e, &u)) } else { Mat3::zeros() };
     let large = large_strain_correction(sys, state, e, r, &u);
     let mut f = vec![Vec3::zeros(); n];
-    let mut t = vec![0.0; 9 * n * n];
+    let mut t = vec![0.0; if with_tangent { 9 * n * n } else { 0 }];
     for a in 0..n {
         let mut fa = if sys.initial_forces[e].is_empty() { Vec3::zeros() } else { sys.initial_forces[e][a] };
         let ga = tension * k.mean_gradient[a];
         for b in 0..n {
             let kab = block(&k.stiffness, n, a, b);
             fa += kab * u[b];
+            if !with_tangent {
+                continue;
+            }
             let geometric = k.volume * ga.dot(&k.mean_gradient[b]);
             let rot = r * kab * r.transpose() + geometric * Mat3::identity();
             for i in 0..3 {

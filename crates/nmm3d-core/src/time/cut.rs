@@ -5,6 +5,8 @@ use nmm3d_geom::Vec3;
 use serde::{Deserialize, Serialize};
 
 use crate::contact::{ContactSet, ContactState};
+use crate::error::Error;
+use crate::state::State;
 use crate::system::System;
 
 /// Blocks named per cut at most.
@@ -119,6 +121,36 @@ pub fn named(sys: &System, blocks: &[usize]) -> String {
 fn ranked(mut measured: Vec<(usize, f64)>) -> Vec<usize> {
     measured.sort_by(|p, q| q.1.total_cmp(&p.1).then(p.0.cmp(&q.0)));
     measured.into_iter().take(MAX_BLOCKS).map(|(b, _)| b).collect()
+}
+
+impl CutReason {
+    /// Why a trial was rejected: its open–close iteration did not settle, or a contact
+    /// overlapped too deep, or else it moved too far.
+    pub fn of(settled: bool, too_deep: bool) -> Self {
+        match (settled, too_deep) {
+            (false, _) => CutReason::OpenCloseUnsettled,
+            (true, true) => CutReason::Overlap,
+            (true, false) => CutReason::DisplacementRatio,
+        }
+    }
+}
+
+/// The run error of a step that failed at the smallest Δt for `reason` (with the trial's
+/// displacement ratio), naming the blocks of the last cut.
+pub fn diverged(sys: &System, state: &State, dt: f64, (reason, ratio): (CutReason, f64), last: Option<&Cut>) -> Error {
+    let blocks = last.map_or(String::new(), |c| named(sys, &c.blocks));
+    let reason = match reason {
+        CutReason::OpenCloseUnsettled => format!(
+            "the open–close iteration did not settle in {} iterations even at the smallest time step {dt:.3e} s",
+            sys.scenario.analysis.max_open_close
+        ),
+        CutReason::Overlap => format!(
+            "a contact overlaps by more than {} × the cover size even at the smallest time step {dt:.3e} s and the raised penalty",
+            sys.scenario.contact.max_penetration_ratio
+        ),
+        _ => format!("the step displacement ratio is {ratio:.3e} even at the smallest time step {dt:.3e} s"),
+    } + &blocks;
+    Error::Diverged { step: state.step + 1, time: state.time, reason }
 }
 
 #[cfg(test)]

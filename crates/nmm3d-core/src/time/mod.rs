@@ -1,10 +1,13 @@
 //! Time stepping: Newmark/DDA integration, co-rotation, adaptive step, the stepper.
 
+mod account;
+mod base_motion;
 mod bolts;
 pub mod contact_pattern;
 pub mod corotation;
 pub mod cut;
 pub mod energy;
+mod equilibrate;
 pub mod integrator;
 mod residual;
 pub mod settle;
@@ -12,6 +15,7 @@ mod setup;
 pub mod snapshot;
 pub mod step_control;
 pub mod stepper;
+mod trial;
 mod vectors;
 mod water;
 

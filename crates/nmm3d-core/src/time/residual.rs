@@ -20,58 +20,91 @@ impl Stepper {
         let mut residual = sys.external.clone();
         super::water::add_water(sys, state, &mut residual);
         self.loads.clone_from(&residual);
-        // Fixed blocks' covers cannot move; their forces would go nowhere.
-        let moving: Vec<usize> = (0..sys.covers.elements.len())
-            .filter(|&e| !sys.geometry.blocks[sys.covers.elements[e].block].fixed)
-            .collect();
-        // The local blocks of a chunk in parallel, scattered in element order: the same sums
-        // in the same order whatever the thread count (bit-identical results), and memory for
-        // one chunk's blocks only.
-        for chunk in moving.chunks(ELEMENT_CHUNK) {
-            let local: Vec<(Mat3, Vec<Vec3>, Vec<f64>)> = chunk
-                .par_iter()
-                .map(|&e| {
-                    let f = corotation::deformation_gradient(sys, state, e);
-                    let r = corotation::rotation(&f, &state.rotations[e]);
-                    let (fint, t) = corotation::internal_force_and_tangent(sys, state, e, &r);
-                    (r, fint, t)
-                })
-                .collect();
-            for (&e, (r, fint, t)) in chunk.iter().zip(local) {
-                state.rotations[e] = r;
-                sys.assembler.add(&mut self.tangent, e, &t);
-                for (a, &c) in sys.covers.elements[e].covers.iter().enumerate() {
-                    residual[c] -= fint[a];
-                }
-            }
+        for (e, r) in subtract_inner_forces(sys, state, &mut residual, Some(&mut self.tangent)) {
+            state.rotations[e] = r;
         }
-        self.add_penalties(sys, state, &mut residual);
-        self.add_bolts(sys, state, &mut residual);
         residual
     }
 
-    pub(super) fn add_penalties(&mut self, sys: &System, state: &State, residual: &mut [Vec3]) {
-        let k = sys.penalty;
-        for p in &sys.constraints {
-            let me = &sys.covers.elements[p.element];
-            let n = me.covers.len();
-            let u: Vec3 = me.covers.iter().zip(&p.weights).map(|(&c, w)| *w * state.displacement(sys, c)).sum();
-            let mut local = vec![0.0; 9 * n * n];
-            for dir in &p.directions {
-                let nn = dir * dir.transpose();
-                for a in 0..n {
-                    residual[me.covers[a]] -= k * p.weights[a] * dir.dot(&u) * dir;
-                    for b in 0..n {
-                        let s = k * p.weights[a] * p.weights[b];
-                        for i in 0..3 {
-                            for j in 0..3 {
-                                local[(3 * a + i) * 3 * n + 3 * b + j] += s * nn[(i, j)];
-                            }
+    /// The unbalanced force at `state` under the loads of the step's start (`self.loads`),
+    /// without a tangent: where a trial's end stands (see `super::equilibrate`).
+    pub(super) fn residual_at(&self, sys: &System, state: &State) -> Vec<Vec3> {
+        let mut residual = self.loads.clone();
+        subtract_inner_forces(sys, state, &mut residual, None);
+        residual
+    }
+}
+
+/// Subtract the forces of the co-rotated elements, the penalty constraints and the bolts at
+/// `state` from `residual`, adding their stiffness to `tangent` if given; the elements'
+/// rotations returned.
+fn subtract_inner_forces(
+    sys: &System,
+    state: &State,
+    residual: &mut [Vec3],
+    mut tangent: Option<&mut Vec<f64>>,
+) -> Vec<(usize, Mat3)> {
+    // Fixed blocks' covers cannot move; their forces would go nowhere.
+    let moving: Vec<usize> =
+        (0..sys.covers.elements.len()).filter(|&e| !sys.geometry.blocks[sys.covers.elements[e].block].fixed).collect();
+    let mut rotations = Vec::with_capacity(moving.len());
+    let with_tangent = tangent.is_some();
+    // The local blocks of a chunk in parallel, scattered in element order: the same sums in the
+    // same order whatever the thread count (bit-identical results), and memory for one chunk's
+    // blocks only.
+    for chunk in moving.chunks(ELEMENT_CHUNK) {
+        let local: Vec<(Mat3, Vec<Vec3>, Vec<f64>)> = chunk
+            .par_iter()
+            .map(|&e| {
+                let f = corotation::deformation_gradient(sys, state, e);
+                let r = corotation::rotation(&f, &state.rotations[e]);
+                let (fint, t) = match with_tangent {
+                    true => corotation::internal_force_and_tangent(sys, state, e, &r),
+                    false => (corotation::internal_force(sys, state, e, &r), Vec::new()),
+                };
+                (r, fint, t)
+            })
+            .collect();
+        for (&e, (r, fint, t)) in chunk.iter().zip(local) {
+            rotations.push((e, r));
+            if let Some(tangent) = tangent.as_deref_mut() {
+                sys.assembler.add(tangent, e, &t);
+            }
+            for (a, &c) in sys.covers.elements[e].covers.iter().enumerate() {
+                residual[c] -= fint[a];
+            }
+        }
+    }
+    add_penalties(sys, state, residual, tangent.as_deref_mut());
+    super::bolts::add_bolts(sys, state, residual, tangent);
+    rotations
+}
+
+/// The penalty constraints' forces into `residual`, their stiffness into `tangent` if given.
+fn add_penalties(sys: &System, state: &State, residual: &mut [Vec3], tangent: Option<&mut Vec<f64>>) {
+    let k = sys.penalty;
+    let mut tangent = tangent;
+    for p in &sys.constraints {
+        let me = &sys.covers.elements[p.element];
+        let n = me.covers.len();
+        let u: Vec3 = me.covers.iter().zip(&p.weights).map(|(&c, w)| *w * state.displacement(sys, c)).sum();
+        let mut local = vec![0.0; 9 * n * n];
+        for dir in &p.directions {
+            let nn = dir * dir.transpose();
+            for a in 0..n {
+                residual[me.covers[a]] -= k * p.weights[a] * dir.dot(&u) * dir;
+                for b in 0..n {
+                    let s = k * p.weights[a] * p.weights[b];
+                    for i in 0..3 {
+                        for j in 0..3 {
+                            local[(3 * a + i) * 3 * n + 3 * b + j] += s * nn[(i, j)];
                         }
                     }
                 }
             }
-            sys.assembler.add(&mut self.tangent, p.element, &local);
+        }
+        if let Some(t) = tangent.as_deref_mut() {
+            sys.assembler.add(t, p.element, &local);
         }
     }
 }

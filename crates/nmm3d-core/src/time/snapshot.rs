@@ -38,6 +38,9 @@ pub struct StepperSnapshot {
     pub penetration_cuts: u64,
     /// Penalty raises so far.
     pub penalty_raises: u32,
+    /// Equilibrium iterations of dynamic steps so far.
+    #[serde(default)]
+    pub equilibrium_iterations: u64,
     /// Energy accounts so far.
     pub energy: Option<Energy>,
     /// Largest displacement summed over the steps since the last contact detection [m]; a
@@ -66,6 +69,7 @@ impl Stepper {
             inertia: self.inertia,
             penetration_cuts: self.penetration_cuts,
             penalty_raises: self.penalty_raises,
+            equilibrium_iterations: self.equilibrium_iterations,
             energy: self.energy,
             // Finite: JSON has no infinity.
             undetected: self.undetected.min(f64::MAX),
@@ -98,6 +102,7 @@ impl Stepper {
             inertia: s.inertia,
             penetration_cuts: s.penetration_cuts,
             penalty_raises: s.penalty_raises,
+            equilibrium_iterations: s.equilibrium_iterations,
             times: PhaseTimes::default(),
             energy: s.energy,
             cuts: Vec::new(),

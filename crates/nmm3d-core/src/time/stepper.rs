@@ -9,17 +9,19 @@ use std::time::Instant;
 
 use nmm3d_geom::Vec3;
 
+use super::account::{self, Increment};
+use super::base_motion::{advance_base, jump_acceleration};
 use super::contact_pattern::ContactPattern;
 use super::cut::{self, Cut, CutReason};
 use super::energy::Energy;
 use super::integrator::{Newmark, StepCoefficients};
 use super::setup::{contact_params, solver};
 use super::step_control::{self, Verdict};
-use super::vectors::{equation_vector, gather, kinetic_energy, mass_times, scale, scatter_into, solver_error};
-use crate::contact::{overlap_problems, ContactRecord, ContactSet};
+use super::vectors::{gather, kinetic_energy, mass_times, scale, scatter_into, solver_error};
+use crate::contact::{overlap_problems, ContactSet};
 use crate::error::{Error, Result};
 use crate::scenario::AnalysisKind;
-use crate::solver::{ReusingSolver, SolveCounts, Solved};
+use crate::solver::{ReusingSolver, SolveCounts};
 use crate::state::State;
 use crate::system::System;
 
@@ -57,6 +59,8 @@ pub struct PhaseTimes {
     pub solve: f64,
     /// Open–close iterations beyond the first (their factorisations and solves included).
     pub open_close: f64,
+    /// Equilibrium iterations of dynamic steps (their element loops and solves).
+    pub equilibrium: f64,
     /// Sparsity pattern growth for newly closed ME pairs (the symbolic analysis that follows
     /// is counted with the factorisation).
     pub pattern: f64,
@@ -81,6 +85,8 @@ pub struct Stepper {
     pub penetration_cuts: u64,
     /// Times the contact penalties were raised because a contact overlapped too deep.
     pub penalty_raises: u32,
+    /// Equilibrium iterations of dynamic steps (see [`super::equilibrate`]).
+    pub equilibrium_iterations: u64,
     /// Time per phase so far.
     pub times: PhaseTimes,
     /// Energy accounts of the run so far (dynamic runs, from the first step on).
@@ -121,6 +127,7 @@ impl Stepper {
             inertia: true,
             penetration_cuts: 0,
             penalty_raises: 0,
+            equilibrium_iterations: 0,
             times: PhaseTimes::default(),
             energy: None,
             cuts: Vec::new(),
@@ -241,6 +248,7 @@ impl Stepper {
             jump_acceleration(sys, state);
         }
         let (mut cuts, mut trials, mut arrivals) = (0, 0, 0);
+        let dynamic = self.inertia && !self.locked && analysis.kind != AnalysisKind::Static;
         loop {
             let k = if self.inertia {
                 self.newmark.coefficients(dt)
@@ -264,7 +272,7 @@ impl Stepper {
                 None => &residual,
             };
             let trial = Trial { residual: trial_residual, mv: &mv, ma: &ma, k };
-            let (d, iterations, settled) = self.open_close(sys, state, &trial)?;
+            let (mut d, iterations, settled) = self.open_close(sys, state, &trial)?;
             let dmax = d.iter().map(|x| x.norm()).fold(0.0, f64::max);
             // Lagged verification, where the blocks may have moved into a contact unseen: not
             // while nothing has moved by the contact tolerance since the last detection.
@@ -304,17 +312,21 @@ impl Stepper {
                 self.penetration_cuts += 1;
             }
             if !matches!(verdict, Verdict::Accept) {
-                let reason = match (settled, too_deep) {
-                    (false, _) => CutReason::OpenCloseUnsettled,
-                    (true, true) => CutReason::Overlap,
-                    (true, false) => CutReason::DisplacementRatio,
-                };
-                let why = self.why(sys, state, dt, reason, (&d, ratio));
+                let why = self.why(sys, state, dt, CutReason::of(settled, too_deep), (&d, ratio));
                 self.cuts.push(why);
             }
             match verdict {
                 Verdict::Accept => {
-                    self.undetected += dmax;
+                    let end_residual = match dynamic && analysis.step_equilibrium_iterations > 0 {
+                        true => {
+                            let clock = Instant::now();
+                            let r1 = self.equilibrate(sys, state, &residual, &mut d)?;
+                            self.times.equilibrium += clock.elapsed().as_secs_f64();
+                            r1
+                        }
+                        false => None,
+                    };
+                    self.undetected += d.iter().map(|x| x.norm()).fold(0.0, f64::max);
                     let kinetic0 = kinetic_energy(sys, &state.v, &mv);
                     if self.shaking(sys) {
                         advance_base(sys, state, dt);
@@ -352,6 +364,7 @@ impl Stepper {
                         &Increment {
                             d: &d,
                             residual: &residual,
+                            end_residual: end_residual.as_deref(),
                             base: (base_start.as_deref(), base_end.as_deref()),
                             m_a0,
                             kinetic0,
@@ -376,159 +389,20 @@ impl Stepper {
                     cuts += 1;
                 }
                 Verdict::Diverged => {
-                    let blocks = self.cuts.last().map_or(String::new(), |c| cut::named(sys, &c.blocks));
-                    let reason = if !settled {
-                        format!("the open–close iteration did not settle in {} iterations even at the smallest time step {dt:.3e} s", analysis.max_open_close)
-                    } else if too_deep {
-                        format!("a contact overlaps by more than {} × the cover size even at the smallest time step {dt:.3e} s and the raised penalty", sys.scenario.contact.max_penetration_ratio)
-                    } else {
-                        format!("the step displacement ratio is {ratio:.3e} even at the smallest time step {dt:.3e} s")
-                    } + &blocks;
-                    return Err(Error::Diverged { step: state.step + 1, time: state.time, reason });
+                    let why = (CutReason::of(settled, too_deep), ratio);
+                    return Err(cut::diverged(sys, state, dt, why, self.cuts.last()));
                 }
             }
         }
     }
 
-    /// Whether contact points arrived during the trial that ends at `state` + `d` (see
-    /// [`ContactSet::arrivals`]): they join the step's start records and the pattern, and the
-    /// step is solved again.
-    fn arrivals(&mut self, sys: &System, state: &State, d: &[Vec3], saved: Option<&mut Vec<ContactRecord>>) -> bool {
-        let (Some(c), Some(saved)) = (self.contacts.as_mut(), saved) else { return false };
-        let mut end = state.clone();
-        end.u.iter_mut().zip(d).for_each(|(u, d)| *u += d);
-        let added = c.arrivals(sys, state, &end);
-        if added.is_empty() {
-            return false;
-        }
-        saved.extend(added);
-        self.ensure_contact_pattern(sys, state.step);
-        true
-    }
-
-    /// Why the trial of `dt` is rejected, and the blocks responsible.
-    fn why(&self, sys: &System, state: &State, dt: f64, reason: CutReason, (d, ratio): (&[Vec3], f64)) -> Cut {
-        let contacts = self.contacts.as_ref();
-        let (value, blocks) = match reason {
-            CutReason::DisplacementRatio => {
-                let limit = sys.scenario.analysis.max_displacement_ratio * sys.half_size;
-                (ratio, cut::moved_too_far(sys, d, limit))
-            }
-            CutReason::OpenCloseUnsettled => {
-                (contacts.map_or(0, |c| c.last_changes.len()) as f64, cut::unsettled(contacts))
-            }
-            CutReason::Overlap | CutReason::PenaltyRaised => {
-                let depth = sys.scenario.contact.max_penetration_ratio * sys.covers.mesh.size;
-                let (blocks, deepest) = cut::overlapping(contacts, depth);
-                (deepest, blocks)
-            }
-        };
-        Cut { step: state.step + 1, time: state.time, dt, reason, value, blocks }
-    }
-
     /// Add an accepted step to the energy accounts (dynamic runs outside the initial
-    /// equilibrium; see [`super::energy`]) and return them.
+    /// equilibrium) and return them.
     fn account(&mut self, sys: &System, state: &State, s: &Increment) -> Energy {
         if self.locked || sys.scenario.analysis.kind == AnalysisKind::Static {
             return Energy::default();
         }
-        let dot = |f: &[Vec3]| -> f64 { s.d.iter().zip(f).map(|(d, f)| d.dot(f)).sum() };
-        // A moving base's force changes over the step: its work by the trapezoidal rule.
-        let base_work = match s.base {
-            (Some(f0), Some(f1)) => 0.5 * (dot(f0) + dot(f1)),
-            _ => 0.0,
-        };
-        let external_work = dot(&self.loads) + base_work;
-        let f_int: Vec<Vec3> = self.loads.iter().zip(s.residual).map(|(f, r)| f - r).collect();
-        let x = equation_vector(sys, s.d);
-        let elastic = dot(&f_int) + 0.5 * sys.assembler.pattern.quadratic_form(&self.tangent, &x);
-        // The springs' energy at the end of the last step (the bodies never see a change of it
-        // between steps — points found or lost by a detection — only the forces applied).
-        let springs_before = self.energy.map_or(s.springs.0, |e| e.contact);
-        let m_a1 = mass_times(sys, &state.a);
-        let kinetic = kinetic_energy(sys, &state.v, &mass_times(sys, &state.v));
-        let inertial: f64 = s.d.iter().zip(s.m_a0).zip(&m_a1).map(|((d, a0), a1)| 0.5 * d.dot(&(a0 + a1))).sum();
-        let step = Energy {
-            kinetic,
-            elastic,
-            external_work,
-            contact: s.springs.1,
-            friction: s.friction,
-            numerical: inertial - (kinetic - s.kinetic0),
-            contact_events: -s.contact_work - (s.springs.1 - springs_before) - s.friction,
-            initial: 0.0,
-        };
-        let energy = self.energy.get_or_insert_with(|| Energy::start(s.kinetic0, s.springs.0));
-        energy.add(&step);
-        *energy
-    }
-
-    /// Solve, update contact states, repeat until no contact changes state.
-    pub(super) fn open_close(&mut self, sys: &System, state: &State, t: &Trial) -> Result<(Vec<Vec3>, u32, bool)> {
-        let max = sys.scenario.analysis.max_open_close;
-        for it in 1..=max {
-            let (clock, pattern) = (Instant::now(), self.times.pattern);
-            if it > 1 {
-                // A point that closed in the last solve may couple a pair the pattern lacks.
-                self.ensure_contact_pattern(sys, state.step);
-            }
-            let d = self.solve_trial(sys, state, t)?;
-            let (changed, mismatch) = self.contacts.as_mut().map_or((0, 0.0), |c| c.update_states(sys, &d));
-            if it > 1 {
-                self.times.open_close += clock.elapsed().as_secs_f64() - (self.times.pattern - pattern);
-            }
-            // Settled when no point changes state, or when the changes move the contact forces
-            // by less than the tolerance (points flipping at zero force or at the Coulomb limit
-            // — side faces of neighbouring blocks — would otherwise cycle without end).
-            let tolerance = sys.scenario.analysis.open_close_tolerance;
-            if changed == 0 || (tolerance > 0.0 && mismatch <= tolerance) {
-                return Ok((d, it, true));
-            }
-            if it == max {
-                return Ok((d, it, false));
-            }
-        }
-        unreachable!("max_open_close ≥ 1")
-    }
-
-    /// Make the sparsity pattern hold the couplings of every closed contact point (grown, with
-    /// a new symbolic factorisation, when a pair of MEs closes that it lacks).
-    pub(super) fn ensure_contact_pattern(&mut self, sys: &System, step: u64) {
-        let Some(c) = self.contacts.as_ref() else { return };
-        let t = Instant::now();
-        if self.pattern.ensure(sys, &c.closed_pairs(), step) {
-            self.solver.new_pattern();
-        }
-        self.times.pattern += t.elapsed().as_secs_f64();
-    }
-
-    pub(super) fn solve_trial(&mut self, sys: &System, state: &State, trial: &Trial) -> Result<Vec<Vec3>> {
-        let Trial { residual, mv, ma, k } = *trial;
-        let t = Instant::now();
-        self.pattern.combine(sys, (1.0, &self.tangent), (k.c0, &sys.mass_values), &mut self.values);
-        let mut contact_force = vec![Vec3::zeros(); residual.len()];
-        // Only a matrix without contact springs is reused (see `solver::reuse`).
-        let nearby = !self.contacts.as_ref().is_some_and(ContactSet::any_closed);
-        if let Some(c) = self.contacts.as_ref() {
-            let pattern = &self.pattern;
-            c.assemble(sys, &mut contact_force, pattern.pattern(sys), |pair| pattern.coupling(pair), &mut self.values);
-        }
-        let rhs_cover: Vec<Vec3> =
-            (0..residual.len()).map(|c| residual[c] + k.c1 * mv[c] + k.c2 * ma[c] + contact_force[c]).collect();
-        let mut rhs = gather(sys, &rhs_cover);
-        let solved = self
-            .solver
-            .solve(self.pattern.pattern(sys), &self.values, &mut rhs, nearby)
-            .map_err(|f| solver_error(sys, state.step + 1, f))?;
-        match solved {
-            Solved::Factorized => self.times.factorization += t.elapsed().as_secs_f64(),
-            Solved::Krylov(_) => self.times.krylov += t.elapsed().as_secs_f64(),
-        }
-        let t = Instant::now();
-        let mut d = vec![Vec3::zeros(); residual.len()];
-        scatter_into(sys, &rhs, &mut d);
-        self.times.solve += t.elapsed().as_secs_f64();
-        Ok(d)
+        account::add_step(sys, state, s, (&self.loads, &self.tangent), &mut self.energy)
     }
 
     pub(super) fn accept(&self, sys: &System, state: &mut State, d: &[Vec3], dt: f64) {
@@ -553,36 +427,10 @@ impl Stepper {
 /// the start, and the Newmark coefficients of the trial's Δt.
 #[derive(Clone, Copy)]
 pub(super) struct Trial<'a> {
-    residual: &'a [Vec3],
-    mv: &'a [Vec3],
-    ma: &'a [Vec3],
-    k: StepCoefficients,
-}
-
-/// Where the base acceleration jumps at the state's time, the blocks' acceleration (in the
-/// base's frame) jumps by minus as much: M⁻¹(−m Δa) = −Δa on every movable cover, since the
-/// cover weights sum to one.
-fn jump_acceleration(sys: &System, state: &mut State) {
-    let q = &sys.scenario.seismic;
-    let (before, after) = (q.acceleration_before(state.time), q.acceleration_after(state.time));
-    let jump = Vec3::from(after) - Vec3::from(before);
-    if jump != Vec3::zeros() {
-        for (c, a) in state.a.iter_mut().enumerate() {
-            if !sys.geometry.blocks[sys.covers.covers[c].block].fixed {
-                *a -= jump;
-            }
-        }
-    }
-}
-
-/// The base's own velocity and displacement over an accepted step from `state.time`: the
-/// trapezoidal rule on its acceleration between the limits inside the step (exact where the
-/// acceleration is linear, which the steps ending at its jumps make it piecewise).
-fn advance_base(sys: &System, state: &mut State, dt: f64) {
-    let q = &sys.scenario.seismic;
-    let (a0, a1) = (Vec3::from(q.acceleration_after(state.time)), Vec3::from(q.acceleration_before(state.time + dt)));
-    let [v, u] = state.base;
-    state.base = [v + 0.5 * dt * (a0 + a1), u + dt * v + dt * dt / 6.0 * (2.0 * a0 + a1)];
+    pub(super) residual: &'a [Vec3],
+    pub(super) mv: &'a [Vec3],
+    pub(super) ma: &'a [Vec3],
+    pub(super) k: StepCoefficients,
 }
 
 /// `into += add`, when there is something to add.
@@ -590,19 +438,4 @@ fn add_to(into: &mut [Vec3], add: Option<&[Vec3]>) {
     if let Some(f) = add {
         into.iter_mut().zip(f).for_each(|(x, f)| *x += f);
     }
-}
-
-/// What an accepted step's energy accounts need besides the state.
-struct Increment<'a> {
-    d: &'a [Vec3],
-    residual: &'a [Vec3],
-    /// The base's force at the start and the end of the step (a moving base only).
-    base: (Option<&'a [Vec3]>, Option<&'a [Vec3]>),
-    m_a0: &'a [Vec3],
-    kinetic0: f64,
-    friction: f64,
-    /// Contact spring energy at the start and the end of the step [J].
-    springs: (f64, f64),
-    /// Work of the contact forces on the blocks over the step [J].
-    contact_work: f64,
 }

@@ -75,6 +75,12 @@ pub struct Analysis {
     /// differ from those of the updated states by at most this fraction of their sum [-]
     /// (0, the default: only when no point changes state; 1e-3 suits jointed rock masses).
     pub open_close_tolerance: f64,
+    /// Modified Newton iterations that bring a dynamic step's end to equilibrium with the
+    /// co-rotated elements' forces at the end (0: one linear solve per step, as DDA) (addition).
+    pub step_equilibrium_iterations: u32,
+    /// A dynamic step's end is in equilibrium when the next correction would move it by at most
+    /// this fraction of the step's largest displacement [-] (addition).
+    pub step_equilibrium_tolerance: f64,
     /// Strain measure: "corotational" (small strain in each ME's rotated frame) or
     /// "green_lagrange" (St Venant–Kirchhoff for large strains).
     pub strain_measure: StrainMeasure,
@@ -159,6 +165,8 @@ impl Default for Analysis {
             max_open_close: 12,
             open_close_cut: 0.3,
             open_close_tolerance: 0.0,
+            step_equilibrium_iterations: 4,
+            step_equilibrium_tolerance: 1e-4,
             initial_equilibrium: false,
             checkpoint_interval: 600.0,
             max_static_iterations: 50,

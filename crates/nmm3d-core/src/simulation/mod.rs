@@ -1,0 +1,7 @@
+//! The façade: build the system, step to the end, record monitors and frames, write outputs.
+
+mod recorder;
+mod run;
+mod summary;
+
+pub use run::{run, RunOptions, RunOutcome, StopRequest};

@@ -1,0 +1,169 @@
+//! The run's record as it goes: history rows, diagnostics, step cuts and frames, and the
+//! values they end with.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use serde_json::{json, Map, Value};
+
+use crate::checkpoint::RecordSnapshot;
+use crate::contact::ContactSet;
+use crate::error::Result;
+use crate::monitor::MonitorPlan;
+use crate::output::{cuts, tables, vtu};
+use crate::state::State;
+use crate::system::System;
+
+/// Records history rows and frames as the run goes.
+pub(super) struct Recorder {
+    pub(super) monitors: Vec<MonitorPlan>,
+    pub(super) history: tables::History,
+    pub(super) diagnostics: Vec<(f64, u64, crate::time::StepReport)>,
+    pub(super) cut_log: Vec<crate::time::Cut>,
+    pub(super) frames: Vec<(f64, String, Option<String>)>,
+    pub(super) out: PathBuf,
+    pub(super) next_history: f64,
+    pub(super) next_frame: f64,
+    pub(super) last_frame_step: Option<u64>,
+    pub(super) last_unbalanced: f64,
+    pub(super) cuts: u64,
+    pub(super) max_penetration: f64,
+    pub(super) max_contacts: usize,
+    pub(super) open_close: u64,
+    pub(super) output_seconds: f64,
+    pub(super) last_history_write: Instant,
+}
+
+/// Wall-clock seconds between rewrites of `history.csv` during a run, so long runs can be
+/// followed and a crash loses little.
+const HISTORY_FLUSH_SECONDS: f64 = 10.0;
+
+impl Recorder {
+    pub(super) fn new(sys: &System, monitors: Vec<MonitorPlan>, out: &Path) -> Self {
+        let bolts = sys.scenario.bolt.iter().flat_map(|b| b.columns());
+        let base = sys.scenario.seismic.columns();
+        let columns = monitors.iter().flat_map(|m| m.columns()).chain(bolts).chain(base).collect();
+        Self {
+            monitors,
+            history: tables::History::new(columns),
+            diagnostics: Vec::new(),
+            cut_log: Vec::new(),
+            frames: Vec::new(),
+            out: out.to_path_buf(),
+            next_history: 0.0,
+            next_frame: 0.0,
+            last_frame_step: None,
+            last_unbalanced: f64::NAN,
+            cuts: 0,
+            max_penetration: 0.0,
+            max_contacts: 0,
+            open_close: 0,
+            output_seconds: 0.0,
+            last_history_write: Instant::now(),
+        }
+    }
+
+    pub(super) fn record(
+        &mut self,
+        sys: &System,
+        state: &State,
+        contacts: Option<&ContactSet>,
+        first: bool,
+    ) -> Result<()> {
+        let t = Instant::now();
+        let a = &sys.scenario.analysis;
+        let eps = 1e-9 * a.dt;
+        if first || a.history_interval.is_none() || state.time + eps >= self.next_history {
+            let mut vals: Vec<f64> = self.monitors.iter().flat_map(|m| m.values(sys, state)).collect();
+            vals.extend(crate::time::bolt_values(sys, state));
+            if sys.scenario.seismic.moves() {
+                vals.extend(state.base.iter().flat_map(|v| [v.x, v.y, v.z]));
+            }
+            self.history.rows.push((state.time, state.step, vals));
+            if let Some(h) = a.history_interval {
+                self.next_history = (state.time / h + 1e-9).floor() * h + h;
+            }
+        }
+        if first || (a.output_interval > 0.0 && state.time + eps >= self.next_frame) {
+            self.frame(sys, state, contacts)?;
+            if a.output_interval > 0.0 {
+                self.next_frame =
+                    (state.time / a.output_interval + 1e-9).floor() * a.output_interval + a.output_interval;
+            }
+        } else if self.last_history_write.elapsed().as_secs_f64() > HISTORY_FLUSH_SECONDS {
+            self.history.write(&self.out)?;
+            self.last_history_write = Instant::now();
+        }
+        self.output_seconds += t.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    pub(super) fn frame(&mut self, sys: &System, state: &State, contacts: Option<&ContactSet>) -> Result<()> {
+        let k = self.frames.len();
+        let name = format!("frames/blocks_{k:05}.vtu");
+        vtu::write_frame(sys, state, &self.out.join(&name))?;
+        let contact_name = match contacts {
+            Some(c) => {
+                let name = format!("frames/contacts_{k:05}.vtu");
+                vtu::write_contacts(sys, state, &c.records, &self.out.join(&name))?;
+                Some(name)
+            }
+            None => None,
+        };
+        self.frames.push((state.time, name, contact_name));
+        self.last_frame_step = Some(state.step);
+        vtu::write_pvd(&self.out.join("result.pvd"), &self.frames)?;
+        self.history.write(&self.out)
+    }
+
+    pub(super) fn finish(&mut self, sys: &System, state: &State, contacts: Option<&ContactSet>) -> Result<()> {
+        if self.last_frame_step != Some(state.step) {
+            self.frame(sys, state, contacts)?;
+        }
+        tables::write_diagnostics(&self.out, &self.diagnostics)?;
+        cuts::write(&self.out, &self.cut_log)?;
+        self.history.write(&self.out)
+    }
+
+    pub(super) fn snapshot(&self) -> RecordSnapshot {
+        RecordSnapshot {
+            history: self.history.rows.clone(),
+            diagnostics: self.diagnostics.clone(),
+            cut_log: self.cut_log.clone(),
+            frames: self.frames.clone(),
+            next_history: self.next_history,
+            next_frame: self.next_frame,
+            last_frame_step: self.last_frame_step,
+            last_unbalanced: Some(self.last_unbalanced).filter(|x| !x.is_nan()),
+            cuts: self.cuts,
+            max_penetration: self.max_penetration,
+            max_contacts: self.max_contacts,
+            open_close: self.open_close,
+        }
+    }
+
+    pub(super) fn restore(&mut self, s: RecordSnapshot) {
+        self.history.rows = s.history;
+        self.diagnostics = s.diagnostics;
+        self.cut_log = s.cut_log;
+        self.frames = s.frames;
+        self.next_history = s.next_history;
+        self.next_frame = s.next_frame;
+        self.last_frame_step = s.last_frame_step;
+        self.last_unbalanced = s.last_unbalanced.unwrap_or(f64::NAN);
+        self.cuts = s.cuts;
+        self.max_penetration = s.max_penetration;
+        self.max_contacts = s.max_contacts;
+        self.open_close = s.open_close;
+    }
+
+    pub(super) fn final_values(&self) -> Map<String, Value> {
+        let mut m = Map::new();
+        if let Some((_, _, vals)) = self.history.rows.last() {
+            for (c, v) in self.history.columns.iter().zip(vals) {
+                let _ = m.insert(c.clone(), json!(v));
+            }
+        }
+        m
+    }
+}

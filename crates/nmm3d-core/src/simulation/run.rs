@@ -1,0 +1,257 @@
+//! A run from scenario to outputs. Failures after the model is built end the run with status "failed", a stop request (Ctrl-C)
+//! with status "interrupted" after the current step; either way every output stays valid up to
+//! the last accepted step, and `summary.json` is always written last.
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::Instant;
+
+use serde_json::{json, Value};
+
+use crate::checkpoint::{self, Checkpoint};
+use crate::error::{Error, Result};
+use crate::monitor::MonitorPlan;
+use crate::output::progress::{Progress, ProgressMode};
+use crate::output::{atomic, run_dir, tables};
+use crate::scenario::{AnalysisKind, Scenario};
+use crate::state::State;
+use crate::system::System;
+use crate::time::Stepper;
+
+use super::recorder::Recorder;
+use super::summary::summary;
+
+/// How a run ended.
+#[derive(Debug, Clone)]
+pub struct RunOutcome {
+    /// The summary written to `summary.json`.
+    pub summary: Value,
+    /// Whether the run completed (false: failed or interrupted, see `summary.status`).
+    pub completed: bool,
+}
+
+/// Asked after every accepted step: `true` stops the run there (status "interrupted").
+#[derive(Clone)]
+pub struct StopRequest(pub Arc<dyn Fn() -> bool + Send + Sync>);
+
+impl std::fmt::Debug for StopRequest {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("StopRequest")
+    }
+}
+
+/// Options of a run.
+#[derive(Debug, Clone, Default)]
+pub struct RunOptions {
+    /// Output directory (created if missing).
+    pub out: PathBuf,
+    /// Report progress on standard error: a live line on a terminal, a periodic line otherwise.
+    pub progress: bool,
+    /// Checked after every accepted step (the Python binding checks for Ctrl-C).
+    pub stop: Option<StopRequest>,
+    /// Continue the run whose `checkpoint.json` is in `out` instead of starting afresh.
+    pub resume: bool,
+}
+
+/// How the stepping ended (errors aside).
+enum End {
+    /// Reached the duration, equilibrium, or (dynamic) `max_steps`.
+    Completed(String),
+    /// A static run that reached its duration or `max_steps` before equilibrium.
+    NotConverged(String),
+    /// Stopped on request.
+    Interrupted(String),
+}
+
+/// Run a validated scenario (or, with `opts.resume`, continue the run whose checkpoint is in
+/// `opts.out`). `Err` only for invalid input or unwritable outputs; a run that fails
+/// numerically returns `Ok` with `completed = false`.
+pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutcome> {
+    let t_start = Instant::now();
+    let out = &opts.out;
+    // Held to the end of the run: no other run writes here meanwhile.
+    let _dir = run_dir::open(out, label, !opts.resume)?;
+    let resumed = if opts.resume { Some(checkpoint::read(out, &scenario, label)?) } else { None };
+    let resumed_at = resumed.as_ref().map(|c| (c.state.step, c.state.time));
+    let mut saver = Saver::new(out, checkpoint::comparable(&scenario), scenario.analysis.checkpoint_interval);
+    let sys = System::build(scenario, label)?;
+    let monitors = MonitorPlan::all(&sys, label)?;
+    let _ = std::fs::remove_file(out.join("summary.json"));
+    tables::write_blocks(&sys, out)?;
+    let mut rec = Recorder::new(&sys, monitors, out);
+    let (mut state, mut stepper) = match resumed {
+        Some(c) => {
+            rec.restore(c.record);
+            saver.initial_equilibrium = c.initial_equilibrium;
+            (c.state, Stepper::resume(&sys, c.stepper)?)
+        }
+        None => {
+            let state = State::initial(&sys);
+            let stepper = Stepper::new(&sys, &state, label)?;
+            (state, stepper)
+        }
+    };
+    let mut progress = Progress::new(progress_mode(opts.progress), &state);
+    let started =
+        if resumed_at.is_some() { Ok(()) } else { start(&sys, &mut state, &mut stepper, &mut rec, &mut saver) };
+    let result = started
+        .and_then(|_| advance(&sys, &mut state, &mut stepper, &mut rec, &mut progress, opts.stop.as_ref(), &mut saver));
+    rec.cut_log.append(&mut stepper.cuts);
+    progress.finish();
+    let (status, message) = match result {
+        Ok(End::Completed(m)) => ("completed", m),
+        Ok(End::Interrupted(m)) => ("interrupted", m),
+        Ok(End::NotConverged(m)) => ("not_converged", m),
+        Err(e @ (Error::Diverged { .. } | Error::Solver { .. })) => ("failed", e.to_string()),
+        Err(e) => return Err(failed(&sys, &state, &stepper, &rec, e, t_start)),
+    };
+    let written = rec.finish(&sys, &state, stepper.contacts());
+    if let Err(e) = written.and_then(|_| if status == "failed" { Ok(()) } else { saver.save(&state, &stepper, &rec) }) {
+        return Err(failed(&sys, &state, &stepper, &rec, e, t_start));
+    }
+    let mut summary = summary(&sys, &state, &stepper, &rec, status, &message, t_start.elapsed().as_secs_f64());
+    if let Some(map) = summary.as_object_mut() {
+        if let Some((steps, unbalanced)) = saver.initial_equilibrium {
+            let _ =
+                map.insert("initial_equilibrium".into(), json!({"steps": steps, "unbalanced_force_ratio": unbalanced}));
+        }
+        if let Some((step, time)) = resumed_at {
+            let _ = map.insert("resumed_from".into(), json!({"step": step, "time": time}));
+        }
+    }
+    let text = serde_json::to_string_pretty(&summary).expect("a JSON value serialises");
+    atomic::write(&out.join("summary.json"), text.as_bytes())?;
+    Ok(RunOutcome { summary, completed: status == "completed" })
+}
+
+/// An error that stopped the run's outputs (a disk full, a directory gone): a `summary.json`
+/// saying `failed` with the reason is still written where the disk allows; the error is
+/// returned.
+fn failed(sys: &System, state: &State, stepper: &Stepper, rec: &Recorder, e: Error, t_start: Instant) -> Error {
+    let summary = summary(sys, state, stepper, rec, "failed", &e.to_string(), t_start.elapsed().as_secs_f64());
+    let text = serde_json::to_string_pretty(&summary).expect("a JSON value serialises");
+    let _ = atomic::write(&rec.out.join("summary.json"), text.as_bytes());
+    e
+}
+
+/// Where progress goes: nowhere, a terminal line, or periodic lines in a log.
+fn progress_mode(wanted: bool) -> ProgressMode {
+    match (wanted, std::io::stderr().is_terminal()) {
+        (false, _) => ProgressMode::Off,
+        (true, true) => ProgressMode::Terminal,
+        (true, false) => ProgressMode::Log,
+    }
+}
+
+/// A fresh run's start: initial accelerations, the initial equilibrium if asked for, the first
+/// history row and frame.
+fn start(sys: &System, state: &mut State, stepper: &mut Stepper, rec: &mut Recorder, saver: &mut Saver) -> Result<()> {
+    stepper.initialize(sys, state)?;
+    if sys.scenario.analysis.initial_equilibrium {
+        saver.initial_equilibrium = Some(stepper.settle(sys, state)?);
+    }
+    rec.record(sys, state, stepper.contacts(), true)
+}
+
+/// Writes `checkpoint.json`: every `interval` wall seconds during the run and at its end.
+struct Saver {
+    out: PathBuf,
+    scenario: Value,
+    interval: f64,
+    last: Instant,
+    initial_equilibrium: Option<(u64, f64)>,
+}
+
+impl Saver {
+    fn new(out: &Path, scenario: Value, interval: f64) -> Self {
+        Self { out: out.to_path_buf(), scenario, interval, last: Instant::now(), initial_equilibrium: None }
+    }
+
+    fn save(&mut self, state: &State, stepper: &Stepper, rec: &Recorder) -> Result<()> {
+        let c = Checkpoint {
+            version: checkpoint::VERSION,
+            scenario: self.scenario.clone(),
+            state: state.clone(),
+            stepper: stepper.snapshot(),
+            record: rec.snapshot(),
+            initial_equilibrium: self.initial_equilibrium,
+        };
+        self.last = Instant::now();
+        checkpoint::write(&self.out, &c)
+    }
+
+    fn due(&self) -> bool {
+        self.interval > 0.0 && self.last.elapsed().as_secs_f64() >= self.interval
+    }
+}
+
+/// Step until the end or a stop request.
+fn advance(
+    sys: &System,
+    state: &mut State,
+    stepper: &mut Stepper,
+    rec: &mut Recorder,
+    progress: &mut Progress,
+    stop: Option<&StopRequest>,
+    saver: &mut Saver,
+) -> Result<End> {
+    let a = &sys.scenario.analysis;
+    let end = a.duration;
+    loop {
+        let unbalanced = rec.last_unbalanced;
+        let static_run = a.kind == AnalysisKind::Static;
+        if state.time >= end * (1.0 - 1e-12) {
+            return Ok(if static_run {
+                End::NotConverged(format!(
+                    "reached the duration t = {end} s before equilibrium (unbalanced force ratio {unbalanced:.3e} > \
+                     equilibrium_tolerance {:.3e})",
+                    a.equilibrium_tolerance
+                ))
+            } else {
+                End::Completed(format!("reached t = {end} s"))
+            });
+        }
+        if state.step >= a.max_steps {
+            let at = format!("stopped at max_steps = {} (t = {} s)", a.max_steps, state.time);
+            return Ok(if static_run {
+                End::NotConverged(format!("{at} before equilibrium (unbalanced force ratio {unbalanced:.3e})"))
+            } else {
+                End::Completed(at)
+            });
+        }
+        let cap = (end - state.time).max(0.0);
+        let report = stepper.step(sys, state, cap)?;
+        rec.cut_log.append(&mut stepper.cuts);
+        rec.last_unbalanced = report.unbalanced;
+        rec.cuts += report.cuts as u64;
+        rec.max_penetration = rec.max_penetration.max(report.max_penetration);
+        rec.max_contacts = rec.max_contacts.max(report.contacts);
+        rec.open_close += report.open_close as u64;
+        rec.diagnostics.push((state.time, state.step, report));
+        if state.u.iter().any(|x| !x.iter().all(|c| c.is_finite())) {
+            return Err(Error::Diverged {
+                step: state.step,
+                time: state.time,
+                reason: "a displacement is not finite".into(),
+            });
+        }
+        rec.record(sys, state, stepper.contacts(), false)?;
+        progress.step(a, state, &report);
+        if a.kind == AnalysisKind::Static && state.step > 1 && report.unbalanced <= a.equilibrium_tolerance {
+            return Ok(End::Completed(format!(
+                "equilibrium reached (unbalanced force ratio {:.3e})",
+                report.unbalanced
+            )));
+        }
+        if saver.due() {
+            saver.save(state, stepper, rec)?;
+        }
+        if stop.is_some_and(|s| (s.0)()) {
+            return Ok(End::Interrupted(format!(
+                "interrupted at step {} (t = {} s); the outputs are valid up to this step",
+                state.step, state.time
+            )));
+        }
+    }
+}

@@ -1,0 +1,135 @@
+//! The trials of a step: the linear solve of a trial and the open–close iteration around it,
+//! with the sparsity pattern grown for contacts that close, contact points arriving during a
+//! trial, and why a trial is rejected.
+
+use std::time::Instant;
+
+use nmm3d_geom::Vec3;
+
+use super::cut::{self, Cut, CutReason};
+use super::stepper::{Stepper, Trial};
+use super::vectors::{gather, scatter_into, solver_error};
+use crate::contact::{ContactRecord, ContactSet};
+use crate::error::Result;
+use crate::solver::Solved;
+use crate::state::State;
+use crate::system::System;
+
+impl Stepper {
+    /// Solve, update contact states, repeat until no contact changes state.
+    pub(super) fn open_close(&mut self, sys: &System, state: &State, t: &Trial) -> Result<(Vec<Vec3>, u32, bool)> {
+        let max = sys.scenario.analysis.max_open_close;
+        for it in 1..=max {
+            let (clock, pattern) = (Instant::now(), self.times.pattern);
+            if it > 1 {
+                // A point that closed in the last solve may couple a pair the pattern lacks.
+                self.ensure_contact_pattern(sys, state.step);
+            }
+            let d = self.solve_trial(sys, state, t)?;
+            let (changed, mismatch) = self.contacts.as_mut().map_or((0, 0.0), |c| c.update_states(sys, &d));
+            if it > 1 {
+                self.times.open_close += clock.elapsed().as_secs_f64() - (self.times.pattern - pattern);
+            }
+            // Settled when no point changes state, or when the changes move the contact forces
+            // by less than the tolerance (points flipping at zero force or at the Coulomb limit
+            // — side faces of neighbouring blocks — would otherwise cycle without end).
+            let tolerance = sys.scenario.analysis.open_close_tolerance;
+            if changed == 0 || (tolerance > 0.0 && mismatch <= tolerance) {
+                return Ok((d, it, true));
+            }
+            if it == max {
+                return Ok((d, it, false));
+            }
+        }
+        unreachable!("max_open_close ≥ 1")
+    }
+
+    /// Make the sparsity pattern hold the couplings of every closed contact point (grown, with
+    /// a new symbolic factorisation, when a pair of MEs closes that it lacks).
+    pub(super) fn ensure_contact_pattern(&mut self, sys: &System, step: u64) {
+        let Some(c) = self.contacts.as_ref() else { return };
+        let t = Instant::now();
+        if self.pattern.ensure(sys, &c.closed_pairs(), step) {
+            self.solver.new_pattern();
+        }
+        self.times.pattern += t.elapsed().as_secs_f64();
+    }
+
+    pub(super) fn solve_trial(&mut self, sys: &System, state: &State, trial: &Trial) -> Result<Vec<Vec3>> {
+        let Trial { residual, mv, ma, k } = *trial;
+        let t = Instant::now();
+        self.pattern.combine(sys, (1.0, &self.tangent), (k.c0, &sys.mass_values), &mut self.values);
+        let mut contact_force = vec![Vec3::zeros(); residual.len()];
+        // Only a matrix without contact springs is reused (see `solver::reuse`).
+        let nearby = !self.contacts.as_ref().is_some_and(ContactSet::any_closed);
+        if let Some(c) = self.contacts.as_ref() {
+            let pattern = &self.pattern;
+            c.assemble(sys, &mut contact_force, pattern.pattern(sys), |pair| pattern.coupling(pair), &mut self.values);
+        }
+        let rhs_cover: Vec<Vec3> =
+            (0..residual.len()).map(|c| residual[c] + k.c1 * mv[c] + k.c2 * ma[c] + contact_force[c]).collect();
+        let mut rhs = gather(sys, &rhs_cover);
+        let solved = self
+            .solver
+            .solve(self.pattern.pattern(sys), &self.values, &mut rhs, nearby)
+            .map_err(|f| solver_error(sys, state.step + 1, f))?;
+        match solved {
+            Solved::Factorized => self.times.factorization += t.elapsed().as_secs_f64(),
+            Solved::Krylov(_) => self.times.krylov += t.elapsed().as_secs_f64(),
+        }
+        let t = Instant::now();
+        let mut d = vec![Vec3::zeros(); residual.len()];
+        scatter_into(sys, &rhs, &mut d);
+        self.times.solve += t.elapsed().as_secs_f64();
+        Ok(d)
+    }
+
+    /// Whether contact points arrived during the trial that ends at `state` + `d` (see
+    /// [`ContactSet::arrivals`]): they join the step's start records and the pattern, and the
+    /// step is solved again.
+    pub(super) fn arrivals(
+        &mut self,
+        sys: &System,
+        state: &State,
+        d: &[Vec3],
+        saved: Option<&mut Vec<ContactRecord>>,
+    ) -> bool {
+        let (Some(c), Some(saved)) = (self.contacts.as_mut(), saved) else { return false };
+        let mut end = state.clone();
+        end.u.iter_mut().zip(d).for_each(|(u, d)| *u += d);
+        let added = c.arrivals(sys, state, &end);
+        if added.is_empty() {
+            return false;
+        }
+        saved.extend(added);
+        self.ensure_contact_pattern(sys, state.step);
+        true
+    }
+
+    /// Why the trial of `dt` is rejected, and the blocks responsible.
+    pub(super) fn why(
+        &self,
+        sys: &System,
+        state: &State,
+        dt: f64,
+        reason: CutReason,
+        (d, ratio): (&[Vec3], f64),
+    ) -> Cut {
+        let contacts = self.contacts.as_ref();
+        let (value, blocks) = match reason {
+            CutReason::DisplacementRatio => {
+                let limit = sys.scenario.analysis.max_displacement_ratio * sys.half_size;
+                (ratio, cut::moved_too_far(sys, d, limit))
+            }
+            CutReason::OpenCloseUnsettled => {
+                (contacts.map_or(0, |c| c.last_changes.len()) as f64, cut::unsettled(contacts))
+            }
+            CutReason::Overlap | CutReason::PenaltyRaised => {
+                let depth = sys.scenario.contact.max_penetration_ratio * sys.covers.mesh.size;
+                let (blocks, deepest) = cut::overlapping(contacts, depth);
+                (deepest, blocks)
+            }
+        };
+        Cut { step: state.step + 1, time: state.time, dt, reason, value, blocks }
+    }
+}
