@@ -14,7 +14,7 @@
 use nmm3d_geom::{Mat3, Vec3};
 
 use super::stepper::Stepper;
-use super::vectors::{equation_vector, gather, scatter_into, solver_error};
+use super::vectors::{equation_vector, gather, mass_times, scatter_into, solver_error};
 use crate::error::Result;
 use crate::state::State;
 use crate::system::System;
@@ -84,24 +84,26 @@ impl Stepper {
 }
 
 /// Per cover, what turns each moving block's rigid rotation in `d` (the least-squares fit
-/// d_c ≈ t + ω × r_c over its covers, r_c from their centroid at `state`) from the linear
-/// ω × r_c into the exact (R(ω) − I) r_c.
+/// d_c ≈ t + ω × r_c over its covers, weighted by their lumped masses, r_c from their centre of
+/// mass at `state`) from the linear ω × r_c into the exact (R(ω) − I) r_c. About the centre of
+/// mass the correction carries no momentum.
 fn exact_rotations(sys: &System, state: &State, d: &[Vec3]) -> Vec<Vec3> {
+    let mass: Vec<f64> = mass_times(sys, &vec![Vec3::repeat(1.0); d.len()]).iter().map(|m| m.x).collect();
     let mut by_block: Vec<Vec<usize>> = vec![Vec::new(); sys.geometry.blocks.len()];
-    for c in (0..d.len()).filter(|&c| sys.dofs.moves(c)) {
+    for c in (0..d.len()).filter(|&c| sys.dofs.moves(c) && mass[c] > 0.0) {
         by_block[sys.covers.covers[c].block].push(c);
     }
     let mut out = vec![Vec3::zeros(); d.len()];
     for covers in by_block.iter().filter(|c| c.len() >= 3) {
         let x = |c: usize| sys.covers.covers[c].position + state.u[c];
-        let n = covers.len() as f64;
-        let centre = covers.iter().map(|&c| x(c)).sum::<Vec3>() / n;
-        let t = covers.iter().map(|&c| d[c]).sum::<Vec3>() / n;
+        let total: f64 = covers.iter().map(|&c| mass[c]).sum();
+        let centre = covers.iter().map(|&c| mass[c] * x(c)).sum::<Vec3>() / total;
+        let t = covers.iter().map(|&c| mass[c] * d[c]).sum::<Vec3>() / total;
         let (mut j, mut b) = (Mat3::zeros(), Vec3::zeros());
         for &c in covers {
             let r = x(c) - centre;
-            j += Mat3::identity() * r.norm_squared() - r * r.transpose();
-            b += r.cross(&(d[c] - t));
+            j += mass[c] * (Mat3::identity() * r.norm_squared() - r * r.transpose());
+            b += mass[c] * r.cross(&(d[c] - t));
         }
         let Some(omega) = j.try_inverse().map(|inv| inv * b) else { continue };
         let turn = nalgebra::Rotation3::from_scaled_axis(omega).into_inner() - Mat3::identity();
