@@ -16,7 +16,7 @@ use super::facets::{self, Candidate};
 use super::record::{ContactParams, ContactRecord, ContactState};
 use super::set::{ContactSet, ContactTimes};
 use super::surface::ContactPiece;
-use super::transfer::{bound_missed_overlap, detection_floor, inherit, REACH};
+use super::transfer::{bound_missed_overlap, inherit, missed_floor, REACH};
 use super::travel::Travel;
 use crate::scenario::Joint;
 use crate::state::State;
@@ -90,7 +90,9 @@ impl ContactSet {
             for q in points {
                 let mut r = ContactRecord::fresh(sys, q, blocks, normal, joint, initial, &p);
                 inherit(&mut r, &previous, by_pair.get(&blocks), &p, self.locked);
-                if !initial && bound_missed_overlap(&mut r, detection_floor(&previous, by_pair.get(&blocks), &p)) {
+                if !initial
+                    && bound_missed_overlap(&mut r, missed_floor(&previous, by_pair.get(&blocks), REACH * p.tolerance))
+                {
                     self.missed_overlaps += 1;
                 }
                 self.records.push(r);
@@ -178,9 +180,8 @@ impl ContactSet {
                 let mut r = ContactRecord::fresh(sys, q, blocks, normal, joint, false, &p);
                 inherit(&mut r, &self.records, Some(&same), &p, self.locked);
                 // A point that arrives already overlapping at the step's start by more than the
-                // tolerance was missed, not made by this trial (a pair's points move by less
-                // than the tolerance between its detections).
-                if bound_missed_overlap(&mut r, -p.tolerance) {
+                // tolerance beyond its pair's deepest point was missed, not made by this trial.
+                if bound_missed_overlap(&mut r, missed_floor(&self.records, Some(&same), p.tolerance)) {
                     self.missed_overlaps += 1;
                 }
                 added.push(r);

@@ -51,7 +51,7 @@ pub(super) fn inherit(
 }
 
 /// Bound an overlap found deeper than one can arise between two detections (`floor`, a gap
-/// [m]; see [`detection_floor`] and the lagged verification's rule in `detect.rs`). It was
+/// [m]; see [`missed_floor`]). It was
 /// missed by an earlier detection, not made in this step, and its spring would push it out at
 /// once with energy from nowhere (½ k_n δ² — 4 MJ on the thesis slope from a 10 cm overlap that
 /// a corrected material point revealed). The excess goes into the zero level (`raised`, as a
@@ -66,14 +66,15 @@ pub(super) fn bound_missed_overlap(r: &mut ContactRecord, floor: f64) -> bool {
     true
 }
 
-/// The deepest gap a detection can find at a new point: beyond the deepest previous point of
-/// its pair (beyond touching where there was none) by the transfer distance — a pair closes by
-/// at most the support tolerance between two detections, and the lagged verification adds
-/// every point arriving deeper within a step unless a point of the pair lies within the
-/// transfer distance.
-pub(super) fn detection_floor(previous: &[ContactRecord], candidates: Option<&Vec<usize>>, p: &ContactParams) -> f64 {
+/// The deepest gap at which a new point can arise: beyond the deepest previous point of its pair
+/// (beyond touching where there was none) by `reach` [m]. A detection's reach is the transfer
+/// distance — a pair closes by at most the support tolerance between two detections, and the
+/// lagged verification adds every point arriving deeper within a step unless a point of the
+/// pair lies within the transfer distance; the lagged verification's is the support tolerance
+/// at the step's start (a point already deeper there was missed, not made by the trial).
+pub(super) fn missed_floor(previous: &[ContactRecord], candidates: Option<&Vec<usize>>, reach: f64) -> f64 {
     let deepest = candidates.into_iter().flatten().map(|&k| previous[k].gap.min(previous[k].gap0));
-    deepest.fold(0.0, f64::min) - REACH * p.tolerance
+    deepest.fold(0.0, f64::min) - reach
 }
 
 /// The transfer distance, in support tolerances: a new point within it of a previous one is
@@ -171,18 +172,18 @@ mod tests {
         // No point in the pair before: found 30 tolerances deep, kept at the transfer distance
         // (10), the rest in the zero level.
         let mut r = new_at(0.0, -30.0 * tol);
-        assert!(bound_missed_overlap(&mut r, detection_floor(&[], None, &p)));
+        assert!(bound_missed_overlap(&mut r, missed_floor(&[], None, REACH * p.tolerance)));
         assert!((r.gap0 + 10.0 * tol).abs() < 1e-15 && (r.raised + 20.0 * tol).abs() < 1e-15);
         assert!((-(r.gap + r.raised) - 30.0 * tol).abs() < 1e-15, "the geometric overlap is still reported");
         // A point of the pair as deep, however far away: nothing was missed.
         let mut old = old_at(5.0, ContactState::Stick);
         (old.gap0, old.gap) = (-25.0 * tol, -25.0 * tol);
         let mut r = new_at(0.0, -30.0 * tol);
-        assert!(!bound_missed_overlap(&mut r, detection_floor(&[old], Some(&vec![0]), &p)));
+        assert!(!bound_missed_overlap(&mut r, missed_floor(&[old], Some(&vec![0]), REACH * p.tolerance)));
         assert_eq!(r.gap0, -30.0 * tol);
         // Within the transfer distance of touching: an arrival near a known point, left as it is.
         let mut r = new_at(0.0, -9.0 * tol);
-        assert!(!bound_missed_overlap(&mut r, detection_floor(&[], None, &p)));
+        assert!(!bound_missed_overlap(&mut r, missed_floor(&[], None, REACH * p.tolerance)));
     }
 
     #[test]
