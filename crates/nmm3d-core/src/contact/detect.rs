@@ -179,11 +179,6 @@ impl ContactSet {
                 q.gap = normal.dot(&(q.a.position(sys, start) - q.b.position(sys, start)));
                 let mut r = ContactRecord::fresh(sys, q, blocks, normal, joint, false, &p);
                 inherit(&mut r, &self.records, Some(&same), &p, self.locked);
-                // A point that arrives already overlapping at the step's start by more than the
-                // tolerance beyond its pair's deepest point was missed, not made by this trial.
-                if bound_missed_overlap(&mut r, missed_floor(&self.records, Some(&same), p.tolerance)) {
-                    self.missed_overlaps += 1;
-                }
                 added.push(r);
             }
         }
