@@ -12,6 +12,7 @@ from nmm3d.key_blocks import KeyBlocks, keyblocks
 from nmm3d.result import Result
 from nmm3d.scenario import Scenario, load
 from nmm3d.study import Study, StudyResult
+from nmm3d.summary import RunSummary
 
 __all__ = [
     "InternalError",
@@ -20,6 +21,7 @@ __all__ = [
     "OutputError",
     "Result",
     "RunError",
+    "RunSummary",
     "Scenario",
     "ScenarioError",
     "Study",

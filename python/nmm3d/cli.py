@@ -9,6 +9,7 @@ from pathlib import Path
 
 from nmm3d import _core
 from nmm3d.scenario import load
+from nmm3d.summary import Check, RunSummary
 from nmm3d.units import unit
 
 # Defined once, in the native module (nmm3d_core::error::exit).
@@ -84,15 +85,15 @@ def _run(args: argparse.Namespace) -> int:
         print(f"summary.json (status \"interrupted\"), the outputs so far and checkpoint.json are in {args.out}; "
               f"continue with: nmm3d run {args.file} --out {args.out} --resume", file=sys.stderr)
         return EXIT_INTERRUPTED
-    s = result.summary
-    line = (f"{s['status']}: {s['message']} — {s['steps']} steps, t = {s['time']:.6g} s, "
-            f"{s['manifold_elements']} MEs, {s['dofs']} DOFs, {s['wall_seconds']:.2f} s wall")
+    s = result.run_summary
+    line = (f"{s.status}: {s.message} — {s.steps} steps, t = {s.time:.6g} s, "
+            f"{s.manifold_elements} MEs, {s.dofs} DOFs, {s.wall_seconds:.2f} s wall")
     if result.completed:
         print(line)
         _print_answers(s)
         return EXIT_OK
-    what = "not converged" if s["status"] == "not_converged" else "run failed"
-    print(f"nmm3d: {what}: {s['message']}", file=sys.stderr)
+    what = "not converged" if s.status == "not_converged" else "run failed"
+    print(f"nmm3d: {what}: {s.message}", file=sys.stderr)
     print(f"outputs up to the last good step are in {args.out}", file=sys.stderr)
     return EXIT_FAILED
 
@@ -101,32 +102,32 @@ MAX_FINAL_LINES = 12
 """Final monitor values printed after a run (all of them are in summary.json)."""
 
 
-def _print_answers(s: dict) -> None:
+def _print_answers(s: RunSummary) -> None:
     """The final monitored values, then each ``[[expect]]`` beside its reference."""
-    final = s.get("final", {})
-    for key in list(final)[:MAX_FINAL_LINES]:
-        print(f"  {key} = {final[key]:.6g} {unit(key)}".rstrip())
-    if len(final) > MAX_FINAL_LINES:
-        print(f"  … {len(final) - MAX_FINAL_LINES} more in summary.json")
-    for c in s.get("checks", []):
+    for key in list(s.final)[:MAX_FINAL_LINES]:
+        value = s.final[key]
+        print(f"  {key} = {'undefined' if value is None else f'{value:.6g} {unit(key)}'.rstrip()}")
+    if len(s.final) > MAX_FINAL_LINES:
+        print(f"  … {len(s.final) - MAX_FINAL_LINES} more in summary.json")
+    for c in s.checks:
         print(_check_line(c))
 
 
-def _check_line(c: dict) -> str:
-    u = unit(c["quantity"])
+def _check_line(c: Check) -> str:
+    u = unit(c.quantity)
     with_unit = lambda x: f"{x:.6g} {u}".rstrip()  # noqa: E731
-    value = "missing" if c["value"] is None else with_unit(c["value"])
-    verdict = "within" if c["passed"] else "OUTSIDE"
-    source = f" ({c['source']})" if c["source"] else ""
-    bounds = [f"≥ {with_unit(c['at_least'])}" if c.get("at_least") is not None else "",
-              f"≤ {with_unit(c['at_most'])}" if c.get("at_most") is not None else ""]
+    value = "missing" if c.value is None else with_unit(c.value)
+    verdict = "within" if c.passed else "OUTSIDE"
+    source = f" ({c.source})" if c.source else ""
+    bounds = [f"≥ {with_unit(c.at_least)}" if c.at_least is not None else "",
+              f"≤ {with_unit(c.at_most)}" if c.at_most is not None else ""]
     bounds_text = " and ".join(b for b in bounds if b)
-    if c["reference"] is None:
-        return f"check {c['quantity']} = {value}; expected {bounds_text}{source}: {'yes' if c['passed'] else 'NO'}"
-    diff = "" if c["relative_difference"] is None else f", {100 * c['relative_difference']:+.2f} %"
-    bound = f"{100 * c['tolerance']:g} %" if c["reference"] != 0 else f"{c['absolute_tolerance']:g} {u}".rstrip()
+    if c.reference is None:
+        return f"check {c.quantity} = {value}; expected {bounds_text}{source}: {'yes' if c.passed else 'NO'}"
+    diff = "" if c.relative_difference is None else f", {100 * c.relative_difference:+.2f} %"
+    bound = f"{100 * c.tolerance:g} %" if c.reference != 0 else f"{c.absolute_tolerance:g} {u}".rstrip()
     also = f", and {bounds_text}" if bounds_text else ""
-    return (f"check {c['quantity']} = {value}; reference {with_unit(c['reference'])}{source}{diff}: "
+    return (f"check {c.quantity} = {value}; reference {with_unit(c.reference)}{source}{diff}: "
             f"{verdict} {bound}{also}")
 
 

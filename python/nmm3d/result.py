@@ -10,6 +10,8 @@ from typing import Any
 
 import numpy as np
 
+from nmm3d.summary import RunSummary
+
 
 class Result:
     """The outputs in ``directory``: summary, monitored history, blocks.
@@ -25,6 +27,11 @@ class Result:
     def summary(self) -> dict[str, Any]:
         """Contents of ``summary.json``."""
         return json.loads((self.directory / "summary.json").read_text())
+
+    @cached_property
+    def run_summary(self) -> RunSummary:
+        """``summary.json`` as a typed :class:`~nmm3d.summary.RunSummary`."""
+        return RunSummary.from_dict(self.summary)
 
     @property
     def status(self) -> str:

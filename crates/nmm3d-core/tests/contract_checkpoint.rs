@@ -8,7 +8,7 @@ use std::sync::Arc;
 
 use common::{out_dir, scenario};
 use nmm3d_core::checkpoint::{self, Checkpoint};
-use nmm3d_core::simulation::{run, RunOptions, StopRequest};
+use nmm3d_core::simulation::{run, RunOptions, Status, StopRequest};
 use nmm3d_core::Error;
 
 /// Stops the run after `steps` accepted steps.
@@ -29,7 +29,7 @@ fn checkpoint_of(dir: &std::path::Path) -> Checkpoint {
 fn stopped_and_resumed_equals_whole(name: &str, text: &str, at: u64) -> Checkpoint {
     let whole = out_dir(&format!("{name}_whole"));
     let a = run(scenario(text), "<test>", &RunOptions { out: whole.clone(), ..Default::default() }).unwrap();
-    assert!(a.completed, "{}", a.summary["message"]);
+    assert!(a.completed, "{}", a.summary.message);
 
     // The first part also writes a checkpoint after every step: writing one changes nothing.
     let parts = out_dir(&format!("{name}_parts"));
@@ -40,20 +40,20 @@ fn stopped_and_resumed_equals_whole(name: &str, text: &str, at: u64) -> Checkpoi
         &RunOptions { out: parts.clone(), stop: Some(stop_after(at)), ..Default::default() },
     )
     .unwrap();
-    assert_eq!(b.summary["status"], "interrupted");
-    assert_eq!(b.summary["steps"], at);
+    assert_eq!(b.summary.status, Status::Interrupted);
+    assert_eq!(b.summary.steps, at);
     let mid = checkpoint_of(&parts);
     let again: Checkpoint = serde_json::from_str(&serde_json::to_string(&mid).unwrap()).unwrap();
     assert_eq!(again, mid, "the state round-trips exactly");
 
     let c =
         run(scenario(text), "<test>", &RunOptions { out: parts.clone(), resume: true, ..Default::default() }).unwrap();
-    assert!(c.completed, "{}", c.summary["message"]);
-    assert_eq!(c.summary["resumed_from"]["step"], at);
+    assert!(c.completed, "{}", c.summary.message);
+    assert_eq!(c.summary.resumed_from.as_ref().map(|r| r.step), Some(at));
     for file in ["history.csv", "diagnostics.csv"] {
         assert!(read(&whole, file) == read(&parts, file), "{name}: {file} differs after the resume");
     }
-    assert_eq!(a.summary["final"], c.summary["final"]);
+    assert_eq!(a.summary.final_values, c.summary.final_values);
     let (end_a, end_c) = (checkpoint_of(&whole), checkpoint_of(&parts));
     assert_eq!(end_a.state, end_c.state);
     assert_eq!(end_a.stepper, end_c.stepper);

@@ -15,8 +15,8 @@ fn a_falling_cube_is_named_in_every_displacement_cut() {
     let text = with(&text, "velocity = [0.0, 0.0, 0.0]", "velocity = [0.0, 0.0, -20.0]");
     let out = run_ok(&text, "step_diagnostics_fall");
     let s = &out.summary;
-    let cuts = s["step_cuts"].as_u64().unwrap();
-    assert!(cuts >= 1, "the throw must cut a step: {s}");
+    let cuts = s.step_cuts;
+    assert!(cuts >= 1, "the throw must cut a step: {s:?}");
     let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("step_diagnostics_fall");
     let csv = std::fs::read_to_string(dir.join("cuts.csv")).unwrap();
     // The cube's id in blocks.csv (moving blocks are numbered first).
@@ -40,13 +40,13 @@ fn a_falling_cube_is_named_in_every_displacement_cut() {
         assert_eq!(r[5], cube.to_string(), "only the falling cube is responsible: {r:?}");
     }
 
-    let d = &s["step_diagnostics"];
-    assert_eq!(d["cuts_by_reason"]["displacement_ratio"].as_u64(), Some(cuts));
-    assert_eq!(d["blocks_most_cut"][0]["block"], cube);
-    assert_eq!(d["blocks_most_cut"][0]["body"], "cube");
-    assert_eq!(d["blocks_most_cut"][0]["cuts"].as_u64(), Some(cuts));
-    let bins = d["dt_histogram"].as_array().unwrap();
-    let steps: u64 = bins.iter().map(|b| b["steps"].as_u64().unwrap()).sum();
-    assert_eq!(steps, s["steps"].as_u64().unwrap(), "every accepted step in one bin");
-    assert!(bins[..bins.len() - 1].iter().any(|b| b["steps"].as_u64() > Some(0)), "some steps below the requested Δt");
+    let d = &s.step_diagnostics;
+    assert_eq!(d.cuts_by_reason.get("displacement_ratio"), Some(&cuts));
+    assert_eq!(d.blocks_most_cut[0].block, cube);
+    assert_eq!(d.blocks_most_cut[0].body, "cube");
+    assert_eq!(d.blocks_most_cut[0].cuts, cuts);
+    let bins = &d.dt_histogram;
+    let steps: u64 = bins.iter().map(|b| b.steps).sum();
+    assert_eq!(steps, s.steps, "every accepted step in one bin");
+    assert!(bins[..bins.len() - 1].iter().any(|b| b.steps > 0), "some steps below the requested Δt");
 }

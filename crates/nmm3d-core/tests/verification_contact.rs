@@ -6,7 +6,7 @@ mod common;
 
 use common::{example, final_value, history, run_ok, scenario};
 use nmm3d_core::error::Error;
-use nmm3d_core::simulation::RunOutcome;
+use nmm3d_core::simulation::{RunOutcome, Status};
 use nmm3d_core::state::State;
 use nmm3d_core::system::System;
 use nmm3d_core::time::Stepper;
@@ -271,7 +271,7 @@ fn block_on_block_and_a_three_block_tower_rest_without_drift() {
     for n in [2usize, 3] {
         let name = format!("tower_{n}");
         let out = tower(n, 4000, &name);
-        let pen = out.summary["max_penetration"].as_f64().unwrap();
+        let pen = out.summary.max_penetration;
         assert!(pen < 1e-3 * 0.5, "{n} blocks: penetration {pen} m");
         // Centroid settlement of the top cube: penalty compression of every interface
         // (load of the cubes above / 4 k_n) + elastic shortening of the cubes below (uniaxial,
@@ -433,8 +433,8 @@ fn a_soft_penalty_is_raised_until_the_overlap_is_allowed() {
         text = common::with(&text, old, new);
     }
     let out = run_ok(&text, "soft_penalty");
-    let raises = out.summary["penalty_raises"].as_u64().unwrap();
-    let pen = out.summary["max_penetration"].as_f64().unwrap();
+    let raises = out.summary.penalty_raises;
+    let pen = out.summary.max_penetration;
     assert!(raises >= 1, "no raise (penetration {pen} m)");
     assert!(pen <= 0.01 * 0.5, "overlap {pen} m beyond 1 % of the cover size");
 }
@@ -481,9 +481,9 @@ fn an_open_close_iteration_that_cannot_settle_fails_the_run_with_its_reason() {
     )
     .unwrap();
     assert!(!out.completed);
-    let message = out.summary["message"].as_str().unwrap();
+    let message = out.summary.message.as_str();
     assert!(message.contains("open–close iteration did not settle"), "{message}");
-    assert_eq!(out.summary["status"], "failed");
+    assert_eq!(out.summary.status, Status::Failed);
     assert!(dir.join("summary.json").exists() && dir.join("history.csv").exists() && dir.join("result.pvd").exists());
 }
 
@@ -528,11 +528,11 @@ fn open_contacts_add_no_fill_to_the_system_matrix() {
     // detected pair, open or not.)
     let near = side_by_side(0.002, "side_by_side_near");
     let far = side_by_side(1.002, "side_by_side_far"); // shifted by two cover cells: the same MEs
-    let points = |o: &RunOutcome| o.summary["max_contact_points"].as_u64().unwrap();
+    let points = |o: &RunOutcome| o.summary.max_contact_points;
     assert!(points(&near) > points(&far), "the near sides are detected: {} vs {}", points(&near), points(&far));
-    assert_eq!(near.summary["factor_nonzeros"], far.summary["factor_nonzeros"]);
+    assert_eq!(near.summary.factor_nonzeros, far.summary.factor_nonzeros);
     assert_eq!(
-        near.summary["pattern_rebuilds"], far.summary["pattern_rebuilds"],
+        near.summary.pattern_rebuilds, far.summary.pattern_rebuilds,
         "the pattern grew for the base contacts only"
     );
 }

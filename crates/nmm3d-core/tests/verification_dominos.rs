@@ -5,6 +5,7 @@
 mod common;
 
 use common::{example, final_value, history, run_ok, with};
+use nmm3d_core::simulation::Status;
 
 #[test]
 fn dominos_two_end_run_ends_at_rest_with_the_middle_pair_leaning_together() {
@@ -26,7 +27,7 @@ fn dominos_two_end_run_ends_at_rest_with_the_middle_pair_leaning_together() {
         let at = |t: f64| r.iter().find(|(s, _)| *s >= t - 1e-9).expect("time").1;
         assert!((at(5.0) - at(4.0)).abs() < 1e-3, "domino {k} still turning");
     }
-    let pen = out.summary["max_penetration"].as_f64().unwrap();
+    let pen = out.summary.max_penetration;
     assert!(pen < 0.01 * 0.1, "overlap {pen} m");
 }
 
@@ -36,8 +37,8 @@ fn dominos_on_hex8_covers_run_to_the_end_without_deep_overlap() {
     // tipped dominos meeting top to top once lost their contact points and passed into each other).
     let text = with(&example("dominos.toml"), "pattern = \"tet6\"", "pattern = \"hex8\"");
     let out = run_ok(&text, "dominos_hex8");
-    assert_eq!(out.summary["status"], "completed");
-    let pen = out.summary["max_penetration"].as_f64().unwrap();
+    assert_eq!(out.summary.status, Status::Completed);
+    let pen = out.summary.max_penetration;
     assert!(pen < 0.01 * 0.1, "overlap {pen} m");
-    assert_eq!(out.summary["penalty_raises"], 0, "no overlap deep enough to raise the penalties");
+    assert_eq!(out.summary.penalty_raises, 0, "no overlap deep enough to raise the penalties");
 }

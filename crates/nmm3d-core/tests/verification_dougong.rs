@@ -6,6 +6,7 @@
 mod common;
 
 use common::{example, scenario, with};
+use nmm3d_core::simulation::Status;
 use nmm3d_core::state::State;
 use nmm3d_core::system::System;
 use nmm3d_core::time::Stepper;
@@ -53,8 +54,8 @@ fn dougong_on_hex8_covers_keeps_its_crossing_contacts_shallow() {
         "pattern = \"hex8\"",
     );
     let out = common::run_ok(&text, "dougong_hex8");
-    assert_eq!(out.summary["status"], "completed");
-    let pen = out.summary["max_penetration"].as_f64().unwrap();
+    assert_eq!(out.summary.status, Status::Completed);
+    let pen = out.summary.max_penetration;
     assert!(pen < 0.01 * 0.15, "overlap {pen} m");
-    assert_eq!(out.summary["penalty_raises"], 0, "no overlap deep enough to raise the penalties");
+    assert_eq!(out.summary.penalty_raises, 0, "no overlap deep enough to raise the penalties");
 }

@@ -77,9 +77,9 @@ fn check(phi: f64, dd: f64) {
     let d = (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]).sqrt();
     let exact = slide_distance(30.0, phi, 10.0, 1.0);
     let tol = (0.01 * exact).max(1e-3);
-    let pen = out.summary["max_penetration"].as_f64().unwrap();
+    let pen = out.summary.max_penetration;
     assert!(pen > 0.0 && pen < 1e-4, "φ = {phi}: max penetration {pen} m");
-    assert!(out.summary["max_contact_points"].as_u64().unwrap() >= 3);
+    assert!(out.summary.max_contact_points >= 3);
     assert!((d - exact).abs() <= tol, "φ = {phi}, dd = {dd}: slid {d} m, exact {exact} m");
     if exact > 0.01 {
         let a = 30f64.to_radians();

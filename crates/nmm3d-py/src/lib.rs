@@ -52,7 +52,7 @@ fn run_json(
             simulation::run(s, &label, &RunOptions { out, progress, stop: Some(stop), resume })
         })
     })?;
-    Ok(outcome.summary.to_string())
+    Ok(serde_json::to_string(&outcome.summary).expect("the summary serialises"))
 }
 
 /// Build the blocks of a scenario (JSON text); with `out`, write `blocks.csv` and `blocks.vtu`

@@ -6,9 +6,8 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::Path;
 
-use serde_json::{json, Value};
-
 use super::atomic;
+use super::summary::{BlockCuts, DtBin, StepDiagnostics};
 use crate::error::Result;
 use crate::system::System;
 use crate::time::{Cut, StepReport};
@@ -32,32 +31,36 @@ pub fn write(dir: &Path, cuts: &[Cut]) -> Result<()> {
 }
 
 /// The summary's `step_diagnostics`.
-pub fn summary(sys: &System, cuts: &[Cut], steps: &[(f64, u64, StepReport)]) -> Value {
-    let mut by_reason: BTreeMap<&str, u64> = BTreeMap::new();
+pub fn summary(sys: &System, cuts: &[Cut], steps: &[(f64, u64, StepReport)]) -> StepDiagnostics {
+    let mut by_reason: BTreeMap<String, u64> = BTreeMap::new();
     let mut by_block: BTreeMap<usize, u64> = BTreeMap::new();
     for c in cuts {
-        *by_reason.entry(c.reason.name()).or_default() += 1;
+        *by_reason.entry(c.reason.name().to_string()).or_default() += 1;
         for &b in &c.blocks {
             *by_block.entry(b).or_default() += 1;
         }
     }
     let mut blocks: Vec<(usize, u64)> = by_block.into_iter().collect();
     blocks.sort_by(|p, q| q.1.cmp(&p.1).then(p.0.cmp(&q.0)));
-    let blocks: Vec<Value> = blocks
+    let blocks_most_cut = blocks
         .iter()
         .take(TOP_BLOCKS)
-        .map(|&(b, n)| json!({"block": b, "body": sys.scenario.body[sys.geometry.blocks[b].body].name, "cuts": n}))
+        .map(|&(block, cuts)| BlockCuts {
+            block,
+            body: sys.scenario.body[sys.geometry.blocks[block].body].name.clone(),
+            cuts,
+        })
         .collect();
-    json!({
-        "cuts_by_reason": by_reason,
-        "blocks_most_cut": blocks,
-        "dt_histogram": histogram(sys.scenario.analysis.dt, steps.iter().map(|(_, _, r)| r.dt)),
-    })
+    StepDiagnostics {
+        cuts_by_reason: by_reason,
+        blocks_most_cut,
+        dt_histogram: histogram(sys.scenario.analysis.dt, steps.iter().map(|(_, _, r)| r.dt)),
+    }
 }
 
 /// Accepted steps per bin of Δt: `[{"from": s, "to": s, "steps": n}]`, the bins' edges the
 /// requested Δt times [`DT_BINS`] (the first from 0, the last to the largest step taken).
-fn histogram(requested: f64, dts: impl Iterator<Item = f64>) -> Value {
+fn histogram(requested: f64, dts: impl Iterator<Item = f64>) -> Vec<DtBin> {
     let mut counts = [0u64; DT_BINS.len() + 1];
     let mut largest = requested;
     for dt in dts {
@@ -66,17 +69,16 @@ fn histogram(requested: f64, dts: impl Iterator<Item = f64>) -> Value {
         counts[bin] += 1;
     }
     let mut from = 0.0;
-    let rows: Vec<Value> = counts
+    counts
         .iter()
         .enumerate()
-        .map(|(k, &n)| {
+        .map(|(k, &steps)| {
             let to = DT_BINS.get(k).map_or(largest, |e| e * requested);
-            let row = json!({"from": from, "to": to, "steps": n});
+            let row = DtBin { from, to, steps };
             from = to;
             row
         })
-        .collect();
-    Value::Array(rows)
+        .collect()
 }
 
 #[cfg(test)]
@@ -86,14 +88,13 @@ mod tests {
     #[test]
     fn every_step_falls_in_one_bin() {
         let dts = [1e-3, 1e-3, 5e-4, 2e-5, 1e-8, 1.2e-3];
-        let h = histogram(1e-3, dts.into_iter());
-        let rows = h.as_array().unwrap();
-        let steps: Vec<u64> = rows.iter().map(|r| r["steps"].as_u64().unwrap()).collect();
+        let rows = histogram(1e-3, dts.into_iter());
+        let steps: Vec<u64> = rows.iter().map(|r| r.steps).collect();
         assert_eq!(steps, [1, 0, 0, 1, 1, 3]);
-        assert_eq!(rows[0]["from"], 0.0);
-        assert_eq!(rows.last().unwrap()["to"], 1.2e-3, "the last bin reaches the largest step");
+        assert_eq!(rows[0].from, 0.0);
+        assert_eq!(rows.last().unwrap().to, 1.2e-3, "the last bin reaches the largest step");
         for w in rows.windows(2) {
-            assert_eq!(w[0]["to"], w[1]["from"], "bins are contiguous");
+            assert_eq!(w[0].to, w[1].from, "bins are contiguous");
         }
     }
 }

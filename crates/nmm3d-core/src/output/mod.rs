@@ -6,5 +6,6 @@ pub mod checks;
 pub mod cuts;
 pub mod progress;
 pub mod run_dir;
+pub mod summary;
 pub mod tables;
 pub mod vtu;

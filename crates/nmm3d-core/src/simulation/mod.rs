@@ -4,4 +4,5 @@ mod recorder;
 mod run;
 mod summary;
 
+pub use crate::output::summary::{RunSummary, Status};
 pub use run::{run, RunOptions, RunOutcome, StopRequest};

@@ -1,10 +1,9 @@
 //! The run's record as it goes: history rows, diagnostics, step cuts and frames, and the
 //! values they end with.
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-
-use serde_json::{json, Map, Value};
 
 use crate::checkpoint::RecordSnapshot;
 use crate::contact::ContactSet;
@@ -157,13 +156,9 @@ impl Recorder {
         self.open_close = s.open_close;
     }
 
-    pub(super) fn final_values(&self) -> Map<String, Value> {
-        let mut m = Map::new();
-        if let Some((_, _, vals)) = self.history.rows.last() {
-            for (c, v) in self.history.columns.iter().zip(vals) {
-                let _ = m.insert(c.clone(), json!(v));
-            }
-        }
-        m
+    /// The monitored values of the last history row; `None` where a value is not defined.
+    pub(super) fn final_values(&self) -> BTreeMap<String, Option<f64>> {
+        let Some((_, _, vals)) = self.history.rows.last() else { return BTreeMap::new() };
+        self.history.columns.iter().zip(vals).map(|(c, &v)| (c.clone(), Some(v).filter(|v| v.is_finite()))).collect()
     }
 }

@@ -7,12 +7,13 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
 
-use serde_json::{json, Value};
+use serde_json::Value;
 
 use crate::checkpoint::{self, Checkpoint};
 use crate::error::{Error, Result};
 use crate::monitor::MonitorPlan;
 use crate::output::progress::{Progress, ProgressMode};
+use crate::output::summary::{RunSummary, Status};
 use crate::output::{atomic, run_dir, tables};
 use crate::scenario::{AnalysisKind, Scenario};
 use crate::state::State;
@@ -20,13 +21,13 @@ use crate::system::System;
 use crate::time::Stepper;
 
 use super::recorder::Recorder;
-use super::summary::summary;
+use super::summary::{summary, Ending};
 
 /// How a run ended.
 #[derive(Debug, Clone)]
 pub struct RunOutcome {
     /// The summary written to `summary.json`.
-    pub summary: Value,
+    pub summary: RunSummary,
     /// Whether the run completed (false: failed or interrupted, see `summary.status`).
     pub completed: bool,
 }
@@ -100,39 +101,50 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
     rec.cut_log.append(&mut stepper.cuts);
     progress.finish();
     let (status, message) = match result {
-        Ok(End::Completed(m)) => ("completed", m),
-        Ok(End::Interrupted(m)) => ("interrupted", m),
-        Ok(End::NotConverged(m)) => ("not_converged", m),
-        Err(e @ (Error::Diverged { .. } | Error::Solver { .. })) => ("failed", e.to_string()),
+        Ok(End::Completed(m)) => (Status::Completed, m),
+        Ok(End::Interrupted(m)) => (Status::Interrupted, m),
+        Ok(End::NotConverged(m)) => (Status::NotConverged, m),
+        Err(e @ (Error::Diverged { .. } | Error::Solver { .. })) => (Status::Failed, e.to_string()),
         Err(e) => return Err(failed(&sys, &state, &stepper, &rec, e, t_start)),
     };
     let written = rec.finish(&sys, &state, stepper.contacts());
-    if let Err(e) = written.and_then(|_| if status == "failed" { Ok(()) } else { saver.save(&state, &stepper, &rec) }) {
+    if let Err(e) =
+        written.and_then(|_| if status == Status::Failed { Ok(()) } else { saver.save(&state, &stepper, &rec) })
+    {
         return Err(failed(&sys, &state, &stepper, &rec, e, t_start));
     }
-    let mut summary = summary(&sys, &state, &stepper, &rec, status, &message, t_start.elapsed().as_secs_f64());
-    if let Some(map) = summary.as_object_mut() {
-        if let Some((steps, unbalanced)) = saver.initial_equilibrium {
-            let _ =
-                map.insert("initial_equilibrium".into(), json!({"steps": steps, "unbalanced_force_ratio": unbalanced}));
-        }
-        if let Some((step, time)) = resumed_at {
-            let _ = map.insert("resumed_from".into(), json!({"step": step, "time": time}));
-        }
-    }
-    let text = serde_json::to_string_pretty(&summary).expect("a JSON value serialises");
-    atomic::write(&out.join("summary.json"), text.as_bytes())?;
-    Ok(RunOutcome { summary, completed: status == "completed" })
+    let end = Ending {
+        status,
+        message: &message,
+        wall: t_start.elapsed().as_secs_f64(),
+        initial_equilibrium: saver.initial_equilibrium,
+        resumed_at,
+    };
+    let summary = summary(&sys, &state, &stepper, &rec, &end);
+    write_summary(out, &summary)?;
+    Ok(RunOutcome { summary, completed: status == Status::Completed })
 }
 
 /// An error that stopped the run's outputs (a disk full, a directory gone): a `summary.json`
 /// saying `failed` with the reason is still written where the disk allows; the error is
 /// returned.
 fn failed(sys: &System, state: &State, stepper: &Stepper, rec: &Recorder, e: Error, t_start: Instant) -> Error {
-    let summary = summary(sys, state, stepper, rec, "failed", &e.to_string(), t_start.elapsed().as_secs_f64());
-    let text = serde_json::to_string_pretty(&summary).expect("a JSON value serialises");
-    let _ = atomic::write(&rec.out.join("summary.json"), text.as_bytes());
+    let message = e.to_string();
+    let end = Ending {
+        status: Status::Failed,
+        message: &message,
+        wall: t_start.elapsed().as_secs_f64(),
+        initial_equilibrium: None,
+        resumed_at: None,
+    };
+    let _ = write_summary(&rec.out, &summary(sys, state, stepper, rec, &end));
     e
+}
+
+/// `summary.json`, written whole or not at all.
+fn write_summary(out: &Path, summary: &RunSummary) -> Result<()> {
+    let text = serde_json::to_string_pretty(summary).expect("the summary serialises");
+    atomic::write(&out.join("summary.json"), text.as_bytes())
 }
 
 /// Where progress goes: nowhere, a terminal line, or periodic lines in a log.

@@ -1,81 +1,99 @@
 //! The run summary (`summary.json`): counts, timings per phase, energy accounts and the final
 //! monitored values with their checks.
 
-use serde_json::{json, Map, Value};
+use std::collections::BTreeMap;
 
 use super::recorder::Recorder;
+use crate::output::summary::{EnergySummary, InitialEquilibrium, ResumedFrom, RunSummary, Status};
 use crate::output::{checks, cuts};
 use crate::state::State;
 use crate::system::System;
 use crate::time::Stepper;
 
-pub(super) fn summary(
-    sys: &System,
-    state: &State,
-    stepper: &Stepper,
-    rec: &Recorder,
-    status: &str,
-    message: &str,
-    wall: f64,
-) -> Value {
-    let mut timings = Map::new();
-    for (k, v) in &sys.timings {
-        let _ = timings.insert(k.clone(), json!(v));
-    }
-    let (symbolic, numeric) = stepper.solver_timings();
-    let _ = timings.insert("assembly".into(), json!(stepper.times.assembly));
-    let _ = timings.insert("ordering_symbolic".into(), json!(symbolic));
-    let _ = timings.insert("factorization".into(), json!(numeric));
-    let _ = timings.insert("krylov".into(), json!(stepper.times.krylov));
-    let _ = timings.insert("solve".into(), json!(stepper.times.solve));
-    let _ = timings.insert("step_equilibrium".into(), json!(stepper.times.equilibrium));
-    let _ = timings.insert("output".into(), json!(rec.output_seconds));
+/// What the run adds to the summary beyond its own state: how it ended, how long it took, how
+/// it started.
+pub(super) struct Ending<'a> {
+    pub status: Status,
+    pub message: &'a str,
+    pub wall: f64,
+    /// Static iterations and unbalanced ratio of the initial equilibrium, when one was solved.
+    pub initial_equilibrium: Option<(u64, f64)>,
+    /// Step and time of the checkpoint a resumed run continued from.
+    pub resumed_at: Option<(u64, f64)>,
+}
+
+pub(super) fn summary(sys: &System, state: &State, stepper: &Stepper, rec: &Recorder, end: &Ending) -> RunSummary {
     let last = rec.final_values();
-    if let Some(c) = stepper.contacts() {
-        let _ = timings.insert("contact_warning".into(), json!(c.times.warning));
-        let _ = timings.insert("contact_detection".into(), json!(c.times.detection));
-        let _ = timings.insert("contact_open_close".into(), json!(stepper.times.open_close));
-        let _ = timings.insert("contact_pattern".into(), json!(stepper.times.pattern));
+    let counts = stepper.solve_counts();
+    RunSummary {
+        status: end.status,
+        message: end.message.to_string(),
+        steps: state.step,
+        time: state.time,
+        wall_seconds: end.wall,
+        blocks: sys.geometry.blocks.len(),
+        manifold_elements: sys.covers.elements.len(),
+        physical_covers: sys.covers.covers.len(),
+        dofs: sys.n_eq(),
+        max_penetration: rec.max_penetration,
+        max_contact_points: rec.max_contacts,
+        open_close_iterations: rec.open_close,
+        step_cuts: rec.cuts,
+        penetration_cuts: stepper.penetration_cuts,
+        penalty_raises: stepper.penalty_raises,
+        equilibrium_iterations: stepper.equilibrium_iterations,
+        missed_overlaps: stepper.contacts().map_or(0, |c| c.missed_overlaps),
+        pattern_rebuilds: stepper.pattern_rebuilds(),
+        factor_nonzeros: stepper.factor_nonzeros(),
+        factorizations: counts.factorizations,
+        krylov_solves: counts.krylov_solves,
+        krylov_iterations: counts.krylov_iterations,
+        krylov_failures: counts.krylov_failures,
+        unbalanced_force_ratio: Some(rec.last_unbalanced).filter(|r| r.is_finite()),
+        energy: energy_summary(stepper.energy.as_ref(), &rec.diagnostics),
+        step_diagnostics: cuts::summary(sys, &rec.cut_log, &rec.diagnostics),
+        stress_sign: "compression negative".into(),
+        timings: timings(sys, stepper, rec),
+        checks: checks::checks(&sys.scenario.expect, &last),
+        final_values: last,
+        initial_equilibrium: end
+            .initial_equilibrium
+            .map(|(steps, unbalanced_force_ratio)| InitialEquilibrium { steps, unbalanced_force_ratio }),
+        resumed_from: end.resumed_at.map(|(step, time)| ResumedFrom { step, time }),
     }
-    json!({
-        "status": status,
-        "message": message,
-        "steps": state.step,
-        "time": state.time,
-        "wall_seconds": wall,
-        "blocks": sys.geometry.blocks.len(),
-        "manifold_elements": sys.covers.elements.len(),
-        "physical_covers": sys.covers.covers.len(),
-        "dofs": sys.n_eq(),
-        "max_penetration": rec.max_penetration,
-        "max_contact_points": rec.max_contacts,
-        "open_close_iterations": rec.open_close,
-        "step_cuts": rec.cuts,
-        "penetration_cuts": stepper.penetration_cuts,
-        "penalty_raises": stepper.penalty_raises,
-        "equilibrium_iterations": stepper.equilibrium_iterations,
-        "missed_overlaps": stepper.contacts().map_or(0, |c| c.missed_overlaps),
-        "pattern_rebuilds": stepper.pattern_rebuilds(),
-        "factor_nonzeros": stepper.factor_nonzeros(),
-        "factorizations": stepper.solve_counts().factorizations,
-        "krylov_solves": stepper.solve_counts().krylov_solves,
-        "krylov_iterations": stepper.solve_counts().krylov_iterations,
-        "krylov_failures": stepper.solve_counts().krylov_failures,
-        "unbalanced_force_ratio": rec.last_unbalanced,
-        "energy": energy_summary(stepper.energy.as_ref(), &rec.diagnostics),
-        "step_diagnostics": cuts::summary(sys, &rec.cut_log, &rec.diagnostics),
-        "stress_sign": "compression negative",
-        "timings": Value::Object(timings),
-        "final": Value::Object(last.clone()),
-        "checks": checks::checks(&sys.scenario.expect, &last),
-    })
+}
+
+/// Seconds per phase: those of building the system, then of the run.
+fn timings(sys: &System, stepper: &Stepper, rec: &Recorder) -> BTreeMap<String, f64> {
+    let mut t: BTreeMap<String, f64> = sys.timings.iter().cloned().collect();
+    let (symbolic, numeric) = stepper.solver_timings();
+    let mut put = |k: &str, v: f64| {
+        let _ = t.insert(k.into(), v);
+    };
+    put("assembly", stepper.times.assembly);
+    put("ordering_symbolic", symbolic);
+    put("factorization", numeric);
+    put("krylov", stepper.times.krylov);
+    put("solve", stepper.times.solve);
+    put("step_equilibrium", stepper.times.equilibrium);
+    put("output", rec.output_seconds);
+    if let Some(c) = stepper.contacts() {
+        put("contact_warning", c.times.warning);
+        put("contact_detection", c.times.detection);
+        put("contact_open_close", stepper.times.open_close);
+        put("contact_pattern", stepper.times.pattern);
+    }
+    t
 }
 
 /// The energy accounts at the end [J], the largest balance error over the run relative to the
-/// largest account of the run, and a warning when it exceeds [`ENERGY_ERROR_BOUND`]; `null`
+/// largest account of the run, and a warning when it exceeds [`ENERGY_ERROR_BOUND`]; `None`
 /// for runs without accounts (static).
-fn energy_summary(end: Option<&crate::time::Energy>, rows: &[(f64, u64, crate::time::StepReport)]) -> Value {
-    let Some(e) = end else { return Value::Null };
+fn energy_summary(
+    end: Option<&crate::time::Energy>,
+    rows: &[(f64, u64, crate::time::StepReport)],
+) -> Option<EnergySummary> {
+    let e = end?;
     // Relative to the largest account of the whole run: early steps, with little energy yet,
     // would otherwise make round-off look large.
     let scale = rows.iter().map(|(_, _, r)| r.energy.largest()).fold(0.0, f64::max);
@@ -86,11 +104,18 @@ fn energy_summary(end: Option<&crate::time::Energy>, rows: &[(f64, u64, crate::t
     let warning = (worst.0 > ENERGY_ERROR_BOUND).then(|| {
         format!("the energy balance error reached {:.1} % of the largest energy account at t = {:.6} s (bound {:.0} %): look for impacts in diagnostics.csv", 100.0 * worst.0, worst.1, 100.0 * ENERGY_ERROR_BOUND)
     });
-    json!({
-        "kinetic": e.kinetic, "elastic": e.elastic, "external_work": e.external_work, "contact": e.contact,
-        "friction_dissipation": e.friction, "numerical_dissipation": e.numerical,
-        "contact_event_dissipation": e.contact_events, "error": e.error(),
-        "max_error_ratio": worst.0, "max_error_time": worst.1, "warning": warning,
+    Some(EnergySummary {
+        kinetic: e.kinetic,
+        elastic: e.elastic,
+        external_work: e.external_work,
+        contact: e.contact,
+        friction_dissipation: e.friction,
+        numerical_dissipation: e.numerical,
+        contact_event_dissipation: e.contact_events,
+        error: e.error(),
+        max_error_ratio: worst.0,
+        max_error_time: worst.1,
+        warning,
     })
 }
 

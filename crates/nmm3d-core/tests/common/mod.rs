@@ -22,7 +22,7 @@ pub fn out_dir(name: &str) -> PathBuf {
 pub fn run_ok(text: &str, name: &str) -> RunOutcome {
     let out = run(scenario(text), "<test>", &RunOptions { out: out_dir(name), progress: false, ..Default::default() })
         .unwrap_or_else(|e| panic!("{e}"));
-    assert!(out.completed, "{}", out.summary["message"]);
+    assert!(out.completed, "{}", out.summary.message);
     out
 }
 
@@ -39,7 +39,7 @@ pub fn history(name: &str, column: &str) -> Vec<(f64, f64)> {
 
 /// A final monitor value from the summary.
 pub fn final_value(out: &RunOutcome, key: &str) -> f64 {
-    out.summary["final"][key].as_f64().unwrap_or_else(|| panic!("no final value {key}"))
+    out.summary.final_values.get(key).copied().flatten().unwrap_or_else(|| panic!("no final value {key}"))
 }
 
 use nmm3d_core::state::State;

@@ -1,0 +1,178 @@
+"""The run summary, ``summary.json``, as typed dataclasses.
+
+The fields mirror the Rust struct ``nmm3d_core::output::summary::RunSummary`` one to one
+(``tests/test_summary.py`` fails when they drift); the user guide documents each. Read one with
+``Result.run_summary`` or ``RunSummary.from_dict(json.load(f))``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import types
+import typing
+from dataclasses import dataclass
+from typing import Any, Literal
+
+Status = Literal["completed", "interrupted", "not_converged", "failed"]
+
+
+@dataclass(frozen=True)
+class EnergySummary:
+    """The energy accounts at the end [J] and how well they balanced over the run."""
+
+    kinetic: float
+    elastic: float
+    external_work: float
+    contact: float
+    friction_dissipation: float
+    numerical_dissipation: float
+    contact_event_dissipation: float
+    error: float
+    #: largest balance error over the run relative to the largest account of the run
+    max_error_ratio: float
+    #: when that largest error occurred [s]
+    max_error_time: float
+    #: set when ``max_error_ratio`` exceeds 5 %
+    warning: str | None
+
+
+@dataclass(frozen=True)
+class BlockCuts:
+    """A block (id of ``blocks.csv``), its body and the step cuts it was responsible for."""
+
+    block: int
+    body: str
+    cuts: int
+
+
+@dataclass(frozen=True)
+class DtBin:
+    """Accepted steps with ``from_ ≤ Δt < to`` [s] (``from`` in ``summary.json``)."""
+
+    from_: float
+    to: float
+    steps: int
+
+
+@dataclass(frozen=True)
+class StepDiagnostics:
+    """Step cuts by reason (the names of ``cuts.csv``) and block, accepted steps by Δt."""
+
+    cuts_by_reason: dict[str, int]
+    blocks_most_cut: list[BlockCuts]
+    dt_histogram: list[DtBin]
+
+
+@dataclass(frozen=True)
+class Check:
+    """One ``[[expect]]`` judged on the final value."""
+
+    quantity: str
+    value: float | None
+    reference: float | None
+    #: (value − reference) / reference; ``None`` for a zero or missing reference
+    relative_difference: float | None
+    tolerance: float
+    absolute_tolerance: float
+    at_least: float | None
+    at_most: float | None
+    passed: bool
+    source: str
+
+
+@dataclass(frozen=True)
+class InitialEquilibrium:
+    """The initial static equilibrium: iterations and the unbalanced-force ratio reached."""
+
+    steps: int
+    unbalanced_force_ratio: float
+
+
+@dataclass(frozen=True)
+class ResumedFrom:
+    """The checkpoint (step, time [s]) a resumed run continued from."""
+
+    step: int
+    time: float
+
+
+@dataclass(frozen=True)
+class RunSummary:
+    """Contents of ``summary.json``; ``None`` where a run could not define a value."""
+
+    status: Status
+    message: str
+    steps: int
+    #: simulated time at the end [s]
+    time: float
+    wall_seconds: float
+    blocks: int
+    manifold_elements: int
+    physical_covers: int
+    dofs: int
+    #: deepest overlap of a contact point at the end of an accepted step [m]
+    max_penetration: float
+    max_contact_points: int
+    open_close_iterations: int
+    step_cuts: int
+    penetration_cuts: int
+    penalty_raises: int
+    equilibrium_iterations: int
+    missed_overlaps: int
+    pattern_rebuilds: int
+    factor_nonzeros: int
+    factorizations: int
+    krylov_solves: int
+    krylov_iterations: int
+    krylov_failures: int
+    unbalanced_force_ratio: float | None
+    #: ``None`` for a static run
+    energy: EnergySummary | None
+    step_diagnostics: StepDiagnostics
+    stress_sign: str
+    #: seconds per phase
+    timings: dict[str, float]
+    #: monitored values of the last history row
+    final: dict[str, float | None]
+    checks: list[Check]
+    initial_equilibrium: InitialEquilibrium | None = None
+    resumed_from: ResumedFrom | None = None
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> RunSummary:
+        """A summary from the parsed ``summary.json``; raises ``ValueError`` naming any key that
+        the dataclasses and the file do not share."""
+        return _build(cls, data)
+
+
+def json_name(field: str) -> str:
+    """The key of a dataclass field in ``summary.json`` (``from_`` is ``from``)."""
+    return field.rstrip("_")
+
+
+def _build(cls: type, data: dict[str, Any]) -> Any:
+    hints = typing.get_type_hints(cls)
+    fields = {f.name: f for f in dataclasses.fields(cls)}
+    names = {json_name(n): n for n in fields}
+    unknown = set(data) - set(names)
+    missing = {k for k, n in names.items() if k not in data and fields[n].default is dataclasses.MISSING}
+    if unknown or missing:
+        raise ValueError(f"summary.json and {cls.__name__} differ: unknown {sorted(unknown)}, missing {sorted(missing)}")
+    return cls(**{names[k]: _convert(hints[names[k]], v) for k, v in data.items()})
+
+
+def _convert(hint: Any, value: Any) -> Any:
+    """``value`` as ``hint`` says: dataclasses built, lists and dicts converted item by item."""
+    if value is None:
+        return None
+    origin = typing.get_origin(hint)
+    if origin in (typing.Union, types.UnionType):
+        inner = [a for a in typing.get_args(hint) if a is not type(None)]
+        return _convert(inner[0], value)
+    if dataclasses.is_dataclass(hint):
+        return _build(hint, value)
+    if origin is list:
+        return [_convert(typing.get_args(hint)[0], v) for v in value]
+    if origin is dict:
+        return {k: _convert(typing.get_args(hint)[1], v) for k, v in value.items()}
+    return value
