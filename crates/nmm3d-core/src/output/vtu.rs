@@ -1,13 +1,19 @@
 //! VTK XML writers: one `.vtu` per frame with every manifold element as a polyhedral cell
 //! (VTK_POLYHEDRON, legacy `faces`/`faceoffsets` layout), `blocks.vtu` with the blocks, and the
-//! `.pvd` collection. Arrays are raw little-endian binary in the `AppendedData` section (each
-//! block preceded by its UInt64 byte count), which VTK, ParaView, PyVista and meshio read.
+//! `.pvd` collection. Arrays are little-endian binary in the `AppendedData` section, each block
+//! (its UInt64 byte count, then the data) base64-encoded on its own, which VTK, ParaView,
+//! PyVista and meshio read. (Raw appended data is smaller, but meshio 5.3 re-encodes it to
+//! base64 and finds each array by its offset: when an array's new offset equals a later
+//! array's raw offset it hands that later array's data to the earlier one — a contact frame of
+//! 2068 points read `block_b` as garbage.)
 //! Frame points are the *current* (deformed) positions; point data: displacement, velocity,
 //! reference_position (= current − displacement); cell data: block id, ME id, stress (xx, yy,
 //! zz, xy, yz, zx; compression negative). Contact frames hold one vertex per contact point with its normal
 //! (from B to A), normal force (compression positive), shear force (vector), state (0 open,
 //! 1 stick, 2 slide), gap, area, mode (0 vertex of A, 1 vertex of B, 2 edge–edge) and blocks.
 
+use base64::engine::general_purpose::STANDARD as BASE64;
+use base64::Engine as _;
 use rustc_hash::FxHashMap;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -122,18 +128,19 @@ impl Cells {
         bin.u8(&mut s, "types", &vec![VTK_POLYHEDRON; offsets.len()]);
         bin.i32(&mut s, "faces", &faces);
         bin.i32(&mut s, "faceoffsets", &face_offsets);
-        s.push_str("</Cells>\n</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"raw\">\n_");
+        s.push_str("</Cells>\n</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"base64\">\n_");
         let mut out = s.into_bytes();
-        out.extend_from_slice(&bin.data);
+        out.extend_from_slice(bin.data.as_bytes());
         out.extend_from_slice(b"\n</AppendedData>\n</VTKFile>\n");
         out
     }
 }
 
-/// Raw binary blocks of the `AppendedData` section, and the XML that points into them.
+/// The base64-encoded blocks of the `AppendedData` section, and the XML that points into them
+/// (offsets in characters from the `_`).
 #[derive(Default)]
 struct Appended {
-    data: Vec<u8>,
+    data: String,
 }
 
 impl Appended {
@@ -154,8 +161,10 @@ impl Appended {
             "<DataArray type=\"{ty}\" Name=\"{name}\"{comps} format=\"appended\" offset=\"{}\"/>",
             self.data.len()
         );
-        self.data.extend_from_slice(&(len as u64).to_le_bytes());
-        self.data.extend(bytes);
+        let mut block = Vec::with_capacity(8 + len);
+        block.extend_from_slice(&(len as u64).to_le_bytes());
+        block.extend(bytes);
+        BASE64.encode_string(&block, &mut self.data);
     }
     fn f64(&mut self, s: &mut String, name: &str, comps: usize, v: &[f64]) {
         self.declare(s, "Float64", name, comps, v.iter().flat_map(|x| x.to_le_bytes()), 8 * v.len());
@@ -253,9 +262,9 @@ pub fn write_contacts(sys: &System, state: &State, records: &[ContactRecord], pa
     bin.i32(&mut s, "connectivity", &ids);
     bin.i32(&mut s, "offsets", &(1..=n as i32).collect::<Vec<_>>());
     bin.u8(&mut s, "types", &vec![VTK_VERTEX; n]);
-    s.push_str("</Cells>\n</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"raw\">\n_");
+    s.push_str("</Cells>\n</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"base64\">\n_");
     let mut out = s.into_bytes();
-    out.extend_from_slice(&bin.data);
+    out.extend_from_slice(bin.data.as_bytes());
     out.extend_from_slice(b"\n</AppendedData>\n</VTKFile>\n");
     atomic::write(path, &out)
 }
@@ -303,4 +312,32 @@ pub fn write_pvd(path: &Path, frames: &[(f64, String, Option<String>)]) -> Resul
     }
     s.push_str("</Collection>\n</VTKFile>\n");
     atomic::write(path, s.as_bytes())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each declared array's offset points at its own base64 block: the byte count, then the
+    /// values (what VTK and meshio decode from that offset).
+    #[test]
+    fn every_offset_starts_its_own_block() {
+        let (mut bin, mut xml) = (Appended::default(), String::new());
+        bin.f64(&mut xml, "gap", 1, &[1.5, -2.0, 3.25]);
+        bin.i64(&mut xml, "block_b", 1, &[7, 8]);
+        let offsets: Vec<usize> = xml
+            .lines()
+            .map(|l| l.split("offset=\"").nth(1).unwrap().trim_end_matches("\"/>").parse().unwrap())
+            .collect();
+        assert_eq!(offsets[0], 0);
+        let block = |k: usize| BASE64.decode(&bin.data[offsets[k]..*offsets.get(k + 1).unwrap_or(&bin.data.len())]);
+        let gap = block(0).unwrap();
+        assert_eq!(u64::from_le_bytes(gap[..8].try_into().unwrap()), 24);
+        assert_eq!(f64::from_le_bytes(gap[16..24].try_into().unwrap()), -2.0);
+        let b = block(1).unwrap();
+        assert_eq!(
+            (u64::from_le_bytes(b[..8].try_into().unwrap()), i64::from_le_bytes(b[16..].try_into().unwrap())),
+            (16, 8)
+        );
+    }
 }
