@@ -256,10 +256,12 @@ def test_diagnostics_are_written_per_step(tmp_path):
     out = tmp_path / "out"
     assert nmm3d("run", str(write(tmp_path, GOOD)), "--out", str(out)).returncode == 0
     lines = (out / "diagnostics.csv").read_text().splitlines()
-    # The contract's columns first and in order; the energy accounts added after them.
+    # The contract's columns first and in order; the energy accounts added after them, then
+    # the contact points and the deepest overlap.
     header = lines[0].split(",")
     assert header[:6] == ["time", "step", "dt", "cuts", "displacement_ratio", "unbalanced_force_ratio"]
-    assert header[6:] == ["kinetic_energy", "elastic_energy", "external_work", "contact_energy", "friction_dissipation", "numerical_dissipation", "energy_error", "contact_event_dissipation"]
+    assert header[6:14] == ["kinetic_energy", "elastic_energy", "external_work", "contact_energy", "friction_dissipation", "numerical_dissipation", "energy_error", "contact_event_dissipation"]
+    assert header[14:] == ["contact_points", "max_penetration"]
     assert len(lines) == json.loads((out / "summary.json").read_text())["steps"] + 1
 
 

@@ -36,7 +36,8 @@ impl ContactRecord {
 }
 
 impl ContactSet {
-    /// After an accepted step: carry the shear-spring extension. A sliding point's spring is
+    /// After an accepted step: carry the shear-spring extension (and let open points hand back
+    /// their raised overlap, `ContactRecord::relax_raised`). A sliding point's spring is
     /// left at the Coulomb limit, so the force is continuous when it sticks again (a reset
     /// spring would drop the friction force at every stick–slip flip and ratchet the block).
     /// Returns the energy friction dissipated in the step: at each sliding point the limit
@@ -54,6 +55,7 @@ impl ContactSet {
                 dissipated += r.limit * (t * r.rel - (shear - r.shear0)).norm();
             }
             r.shear0 = shear;
+            r.relax_raised();
         }
         dissipated
     }

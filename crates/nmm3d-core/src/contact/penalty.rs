@@ -24,8 +24,21 @@ impl ContactRecord {
         }
     }
 
-    /// Move `shift` (≤ 0) of the overlap into the zero level: the spring no longer pushes it
-    /// out, `raised` keeps it so the geometric overlap −(gap + raised) is still reported.
+    /// An open point hands back the overlap its zero level took (`raised`) as far as its gap
+    /// allows: the zero level follows the separating faces back up to the geometric one, so a
+    /// point that closes again meets its spring where the faces touch. Open, the spring holds
+    /// no force before or after (the gap stays ≥ 0), so no energy changes hands. A raised
+    /// level kept after opening would let the point — and, by transfer, its successors — sink
+    /// deeper at every closure (`max_penetration` reports −(gap + raised)).
+    pub fn relax_raised(&mut self) {
+        if self.state == ContactState::Open && self.raised < 0.0 && self.gap > 0.0 {
+            self.shift_zero_level(self.gap.min(-self.raised));
+        }
+    }
+
+    /// Move `shift` of the overlap into the zero level (≤ 0; > 0 hands it back): the spring no
+    /// longer pushes it out, `raised` keeps it so the geometric overlap −(gap + raised) is
+    /// still reported.
     pub(super) fn shift_zero_level(&mut self, shift: f64) {
         self.offset += shift;
         self.raised += shift;
@@ -114,6 +127,29 @@ mod tests {
         let mut open = test_point(ContactState::Open, 1e-3);
         open.stiffen(10.0);
         assert_eq!((open.gap0, open.raised), (1e-3, 0.0));
+    }
+
+    #[test]
+    fn an_open_point_hands_its_raised_overlap_back_as_far_as_its_gap_allows() {
+        let mut r = test_point(ContactState::Stick, -2e-3);
+        r.stiffen(10.0);
+        let geometric = |r: &ContactRecord| r.gap + r.raised;
+        // Still closed: the raise stays.
+        let kept = r.clone();
+        r.relax_raised();
+        assert_eq!((r.raised, r.gap), (kept.raised, kept.gap));
+        // Opened 1 mm past the raised level: 1 mm of the 1.8 mm is handed back, touching at
+        // the end; the geometric gap is unchanged.
+        (r.state, r.gap) = (ContactState::Open, 1e-3);
+        let before = geometric(&r);
+        r.relax_raised();
+        assert!((r.raised + 0.8e-3).abs() < 1e-15 && r.gap.abs() < 1e-15);
+        assert!((geometric(&r) - before).abs() < 1e-15);
+        // Apart by more than the raise: all of it, the gap the geometric one.
+        r.gap = 5e-3;
+        r.relax_raised();
+        assert_eq!(r.raised, 0.0);
+        assert!((r.gap - 4.2e-3).abs() < 1e-15);
     }
 
     #[test]

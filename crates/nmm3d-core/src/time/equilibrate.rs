@@ -14,7 +14,7 @@
 use nmm3d_geom::{Mat3, Vec3};
 
 use super::stepper::Stepper;
-use super::vectors::{equation_vector, gather, mass_times, scatter_into, solver_error};
+use super::vectors::{equation_vector, gather, scatter_into, solver_error};
 use crate::error::Result;
 use crate::state::State;
 use crate::system::System;
@@ -40,7 +40,7 @@ impl Stepper {
         // Start from each block's rotation made exact (the linear step moved its points along
         // the tangents): what the rhs must carry for that start, A δ, is applied already.
         // (Tied covers follow their masters.)
-        let x = equation_vector(sys, &exact_rotations(sys, state, d));
+        let x = equation_vector(sys, &exact_rotations(sys, state, &self.lumped_mass, d));
         let mut predicted = vec![Vec3::zeros(); d.len()];
         scatter_into(sys, &x, &mut predicted);
         let mut applied = vec![0.0; g0.len()];
@@ -83,12 +83,11 @@ impl Stepper {
     }
 }
 
-/// Per cover, what turns each moving block's rigid rotation in `d` (the least-squares fit
+/// Per cover (`mass` its lumped mass), what turns each moving block's rigid rotation in `d` (the least-squares fit
 /// d_c ≈ t + ω × r_c over its covers, weighted by their lumped masses, r_c from their centre of
 /// mass at `state`) from the linear ω × r_c into the exact (R(ω) − I) r_c. About the centre of
 /// mass the correction carries no momentum.
-fn exact_rotations(sys: &System, state: &State, d: &[Vec3]) -> Vec<Vec3> {
-    let mass: Vec<f64> = mass_times(sys, &vec![Vec3::repeat(1.0); d.len()]).iter().map(|m| m.x).collect();
+fn exact_rotations(sys: &System, state: &State, mass: &[f64], d: &[Vec3]) -> Vec<Vec3> {
     let mut by_block: Vec<Vec<usize>> = vec![Vec::new(); sys.geometry.blocks.len()];
     for c in (0..d.len()).filter(|&c| sys.dofs.moves(c) && mass[c] > 0.0) {
         by_block[sys.covers.covers[c].block].push(c);

@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 use super::contact_pattern::{ContactPattern, PatternSnapshot};
 use super::setup::{contact_params, solver};
 use super::stepper::{PhaseTimes, Stepper};
-use super::vectors::solver_error;
+use super::vectors::{lumped_mass, solver_error};
 use super::{Energy, Newmark};
 use crate::contact::snapshot::ContactSnapshot;
 use crate::contact::ContactSet;
@@ -109,6 +109,7 @@ impl Stepper {
             undetected: s.undetected,
             loads: Vec::new(),
             contact_end: s.contact_end,
+            lumped_mass: lumped_mass(sys),
         })
     }
 }

@@ -17,7 +17,7 @@ use super::energy::Energy;
 use super::integrator::{Newmark, StepCoefficients};
 use super::setup::{contact_params, solver};
 use super::step_control::{self, Verdict};
-use super::vectors::{gather, kinetic_energy, mass_times, scale, scatter_into, solver_error};
+use super::vectors::{gather, kinetic_energy, lumped_mass, mass_times, scale, scatter_into, solver_error};
 use crate::contact::{overlap_problems, ContactSet};
 use crate::error::{Error, Result};
 use crate::scenario::AnalysisKind;
@@ -100,6 +100,8 @@ pub struct Stepper {
     /// Contact forces on the covers at the end of the last accepted step (what its
     /// acceleration carries; empty before the first) [N].
     pub(super) contact_end: Vec<Vec3>,
+    /// Each cover's lumped (row-summed) mass [kg]: the weights of the blocks' rigid fits.
+    pub(super) lumped_mass: Vec<f64>,
 }
 
 impl Stepper {
@@ -134,6 +136,7 @@ impl Stepper {
             undetected: 0.0,
             loads: Vec::new(),
             contact_end: Vec::new(),
+            lumped_mass: lumped_mass(sys),
         };
         stepper.ensure_contact_pattern(sys, 0);
         Ok(stepper)

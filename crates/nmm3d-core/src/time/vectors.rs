@@ -24,6 +24,11 @@ pub(super) fn equation_vector(sys: &System, d: &[Vec3]) -> Vec<f64> {
     x
 }
 
+/// Each cover's lumped (row-summed) mass [kg].
+pub(super) fn lumped_mass(sys: &System) -> Vec<f64> {
+    mass_times(sys, &vec![Vec3::repeat(1.0); sys.covers.covers.len()]).iter().map(|m| m.x).collect()
+}
+
 /// M w, per cover, from the element masses.
 pub(super) fn mass_times(sys: &System, w: &[Vec3]) -> Vec<Vec3> {
     let mut out = vec![Vec3::zeros(); w.len()];
