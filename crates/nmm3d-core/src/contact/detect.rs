@@ -179,6 +179,9 @@ impl ContactSet {
                 q.gap = normal.dot(&(q.a.position(sys, start) - q.b.position(sys, start)));
                 let mut r = ContactRecord::fresh(sys, q, blocks, normal, joint, false, &p);
                 inherit(&mut r, &self.records, Some(&same), &p, self.locked);
+                if bound_missed_overlap(&mut r, missed_floor(&self.records, Some(&same), reach)) {
+                    self.missed_overlaps += 1;
+                }
                 added.push(r);
             }
         }

@@ -71,8 +71,8 @@ pub fn facets_of_piece(sys: &System, block: usize, piece: &nmm3d_geom::ConvexPol
     out
 }
 
-/// Facets of a piece (with their current vertices `x`) facing along `outward` whose every
-/// vertex lies within `tol` of the level `level` (n·x).
+/// Facets of a piece (with their current vertices `x` and area vector) facing along `outward`
+/// whose every vertex lies within `tol` of the level `level` (n·x).
 fn on_level<'a>(
     facets: &'a [Facet],
     x: &'a [Vec<Vec3>],
@@ -80,14 +80,13 @@ fn on_level<'a>(
     level: f64,
     outward: f64,
     tol: f64,
-) -> Vec<(&'a Facet, &'a [Vec3])> {
+) -> Vec<(&'a Facet, &'a [Vec3], Vec3)> {
     facets
         .iter()
         .zip(x)
-        .filter(|(_, x)| {
-            x.iter().all(|p| (n.dot(p) - level).abs() <= tol) && outward * polygon::area_vector(x).dot(n) > 0.0
-        })
-        .map(|(f, x)| (f, x.as_slice()))
+        .filter(|(_, x)| x.iter().all(|p| (n.dot(p) - level).abs() <= tol))
+        .map(|(f, x)| (f, x.as_slice(), polygon::area_vector(x)))
+        .filter(|(_, _, m)| outward * m.dot(n) > 0.0)
         .collect()
 }
 
@@ -111,35 +110,29 @@ pub fn overlay(
     }
     let flat = |p: &Vec3| p - n * n.dot(p);
     // A's facets are clockwise about n (they face −n): reverse them for the 2-D overlay.
-    let pa: Vec<Vec<Vec3>> = sa.iter().map(|(_, x)| x.iter().rev().map(flat).collect()).collect();
-    let pb: Vec<Vec<Vec3>> = sb.iter().map(|(_, x)| x.iter().map(flat).collect()).collect();
-    let bounds = |p: &[Vec3]| {
-        p.iter()
-            .fold((Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY)), |(lo, hi), v| (lo.inf(v), hi.sup(v)))
-    };
-    let ba: Vec<_> = pa.iter().map(|p| bounds(p)).collect();
-    let bb: Vec<_> = pb.iter().map(|p| bounds(p)).collect();
+    let pa: Vec<Vec<Vec3>> = sa.iter().map(|(_, x, _)| x.iter().rev().map(flat).collect()).collect();
+    let pb: Vec<Vec<Vec3>> = sb.iter().map(|(_, x, _)| x.iter().map(flat).collect()).collect();
     let eps = 1e-6 * tol;
+    let overlapping = Sweep::new(&pa, &pb, n, eps);
     let mut points: Vec<Candidate> = Vec::new();
     let mut index: FxHashMap<[i64; 3], Vec<usize>> = FxHashMap::default();
-    for (i, (fa_, xa)) in sa.iter().enumerate() {
-        for (j, (fb_, xb)) in sb.iter().enumerate() {
-            let (lo, hi) = (ba[i].0.sup(&bb[j].0), ba[i].1.inf(&bb[j].1));
-            if (0..3).any(|k| lo[k] > hi[k] + eps) {
-                continue;
-            }
+    for (i, (fa_, xa, ma)) in sa.iter().enumerate() {
+        for j in overlapping.of(i) {
+            let (fb_, xb, mb) = &sb[j];
             let cell = polygon::intersect_convex(&pa[i], &pb[j], n, eps);
             if cell.len() < 3 {
                 continue;
             }
             let share = polygon::area_vector(&cell).norm() / cell.len() as f64;
             for p in &cell {
-                let (on_a, ref_a) = lift(p, n, xa, fa_);
-                let (on_b, ref_b) = lift(p, n, xb, fb_);
+                // Corners shared by neighbouring overlaps are found again: merge them before
+                // the costlier material coordinates.
+                let on_a = above(p, n, xa, ma);
                 if let Some(k) = find(&index, &points, &on_a, merge) {
                     points[k].area += share;
                     continue;
                 }
+                let on_b = above(p, n, xb, mb);
                 let mode = if xa.iter().any(|v| (flat(v) - p).norm() <= merge) {
                     Mode::VertexOfA
                 } else if xb.iter().any(|v| (flat(v) - p).norm() <= merge) {
@@ -147,8 +140,8 @@ pub fn overlay(
                 } else {
                     Mode::EdgeEdge
                 };
-                let a = MaterialPoint::on_element(sys, fa_.vertices[0].element, ref_a);
-                let b = MaterialPoint::on_element(sys, fb_.vertices[0].element, ref_b);
+                let a = MaterialPoint::on_element(sys, fa_.vertices[0].element, reference(&on_a, xa, fa_));
+                let b = MaterialPoint::on_element(sys, fb_.vertices[0].element, reference(&on_b, xb, fb_));
                 index.entry(key(&on_a, merge)).or_default().push(points.len());
                 points.push(Candidate { mode, a, b, on_a, gap: n.dot(&(on_a - on_b)), area: share });
             }
@@ -157,21 +150,74 @@ pub fn overlay(
     points
 }
 
-/// The point of the facet (current vertices `x`) above the flat point `p` along `n`, and its
-/// reference position (the same affine combination of a fan triangle's reference vertices).
-fn lift(p: &Vec3, n: &Vec3, x: &[Vec3], f: &Facet) -> (Vec3, Vec3) {
-    let m = polygon::area_vector(x);
-    let z = m.dot(&(x[0] - p)) / m.dot(n);
-    let q = p + n * z;
-    let mut best = (f64::INFINITY, x[0], f.vertices[0].reference);
+/// An axis-aligned box: low and high corners [m].
+type Box3 = (Vec3, Vec3);
+
+/// Which facets of B (flat, `pb`) may overlap each facet of A (`pa`): their boxes, swept along
+/// the axis the contact plane spans most. Far fewer box tests than every pair on a large face.
+struct Sweep {
+    /// Boxes of A's and B's facets.
+    boxes: (Vec<Box3>, Vec<Box3>),
+    /// B's facets by the low end of their box along `axis`.
+    order: Vec<usize>,
+    axis: usize,
+    /// The widest of B's boxes along `axis`, plus `eps`.
+    reach: f64,
+    eps: f64,
+}
+
+impl Sweep {
+    fn new(pa: &[Vec<Vec3>], pb: &[Vec<Vec3>], n: &Vec3, eps: f64) -> Self {
+        let bounds = |p: &Vec<Vec3>| {
+            p.iter().fold((Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY)), |(lo, hi), v| {
+                (lo.inf(v), hi.sup(v))
+            })
+        };
+        let (ba, bb): (Vec<_>, Vec<_>) = (pa.iter().map(bounds).collect(), pb.iter().map(bounds).collect());
+        let axis = n.abs().imin();
+        let mut order: Vec<usize> = (0..bb.len()).collect();
+        order.sort_by(|&p, &q| bb[p].0[axis].total_cmp(&bb[q].0[axis]));
+        let reach = bb.iter().map(|b| b.1[axis] - b.0[axis]).fold(0.0, f64::max) + eps;
+        Self { boxes: (ba, bb), order, axis, reach, eps }
+    }
+
+    /// B's facets whose boxes overlap A's facet `i`'s, in index order.
+    fn of(&self, i: usize) -> Vec<usize> {
+        let ((ba, bb), k) = (&self.boxes, self.axis);
+        let (lo_a, hi_a) = ba[i];
+        let first = self.order.partition_point(|&j| bb[j].0[k] < lo_a[k] - self.reach);
+        let mut out: Vec<usize> = self.order[first..]
+            .iter()
+            .take_while(|&&j| bb[j].0[k] <= hi_a[k] + self.eps)
+            .copied()
+            .filter(|&j| {
+                let (lo, hi) = (lo_a.sup(&bb[j].0), hi_a.inf(&bb[j].1));
+                (0..3).all(|c| lo[c] <= hi[c] + self.eps)
+            })
+            .collect();
+        out.sort_unstable();
+        out
+    }
+}
+
+/// The point of the facet's plane (current vertices `x`, area vector `m`) above the flat point
+/// `p` along `n`.
+fn above(p: &Vec3, n: &Vec3, x: &[Vec3], m: &Vec3) -> Vec3 {
+    p + n * (m.dot(&(x[0] - p)) / m.dot(n))
+}
+
+/// The reference position of the facet's point `q` (current vertices `x`): the same affine
+/// combination of a fan triangle's reference vertices, of the triangle `q` lies in or nearest.
+fn reference(q: &Vec3, x: &[Vec3], f: &Facet) -> Vec3 {
+    let mut best = (f64::INFINITY, f.vertices[0].reference);
     for i in 1..x.len() - 1 {
-        let (l, d) = barycentric(&q, &x[0], &x[i], &x[i + 1]);
+        let (l, d) = barycentric(q, &x[0], &x[i], &x[i + 1]);
         if d < best.0 {
             let r = |k: usize| f.vertices[k].reference;
-            best = (d, q, l[0] * r(0) + l[1] * r(i) + l[2] * r(i + 1));
+            best = (d, l[0] * r(0) + l[1] * r(i) + l[2] * r(i + 1));
         }
     }
-    (best.1, best.2)
+    best.1
 }
 
 fn key(x: &Vec3, h: f64) -> [i64; 3] {

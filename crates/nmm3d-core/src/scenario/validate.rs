@@ -226,6 +226,9 @@ fn analysis(c: &mut Checker, a: &Analysis) {
     if !(a.step_equilibrium_tolerance > 0.0 && a.step_equilibrium_tolerance < 1.0) {
         c.fail("analysis.step_equilibrium_tolerance", "must lie in (0, 1)");
     }
+    if !(a.step_equilibrium_stall >= a.step_equilibrium_tolerance && a.step_equilibrium_stall < 1.0) {
+        c.fail("analysis.step_equilibrium_stall", "must lie in [step_equilibrium_tolerance, 1)");
+    }
     if !(a.open_close_cut > 0.0 && a.open_close_cut < 1.0) {
         c.fail("analysis.open_close_cut", "must lie in (0, 1)");
     }

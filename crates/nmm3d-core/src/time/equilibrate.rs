@@ -22,9 +22,12 @@ use crate::system::System;
 impl Stepper {
     /// Correct the trial increment `d` from `state` until the end's unbalanced force, under
     /// the step's loads, matches what the solve assumed; `r0` is the unbalanced force at the
-    /// start. Returns the unbalanced force at the end (the elements' true forces), or `None`
-    /// with `d` as it came when the corrections do not settle (they grow, or the iterations
-    /// run out: the tangent does not describe the step — an element turning inside out).
+    /// start. Returns the unbalanced force at the end (the elements' true forces). When the
+    /// corrections stall (they stop shrinking, or the iterations run out) the last iterate is
+    /// kept if its last correction was small (`step_equilibrium_stall`: a block tumbling fast
+    /// turns so far in a step that the start's tangent contracts slowly, yet its iterate is far
+    /// nearer equilibrium than the linear step); otherwise `d` is restored as it came and `None`
+    /// returned (the tangent does not describe the step — an element turning inside out).
     pub(super) fn equilibrate(
         &mut self,
         sys: &System,
@@ -51,9 +54,15 @@ impl Stepper {
         for it in 1.. {
             end.u.iter_mut().zip(&state.u).zip(d.iter()).for_each(|((e, u), d)| *e = u + d);
             let r1 = self.residual_at(sys, &end);
+            let stalled = |d: &mut [Vec3], last: f64| {
+                let keep = last <= a.step_equilibrium_stall * largest(d);
+                if !keep {
+                    d.copy_from_slice(&linear);
+                }
+                keep.then_some(r1.clone())
+            };
             if it > a.step_equilibrium_iterations {
-                d.copy_from_slice(&linear);
-                return Ok(None);
+                return Ok(stalled(d, last));
             }
             sys.assembler.pattern.symmetric_times(&self.tangent, &equation_vector(sys, d), &mut ktd);
             // m = r(u₀ + d) − (r(u₀) − K_t d); the rhs lacks its change since the last solve.
@@ -65,14 +74,12 @@ impl Stepper {
             scatter_into(sys, &change, &mut delta);
             // Settled when the correction is below the tolerance of the increment: the end
             // stays where its forces were measured.
-            let largest = |v: &[Vec3]| v.iter().map(|x| x.norm()).fold(0.0, f64::max);
             let size = largest(&delta);
             if size <= a.step_equilibrium_tolerance * largest(d) {
                 return Ok(Some(r1));
             }
             if size >= last {
-                d.copy_from_slice(&linear);
-                return Ok(None);
+                return Ok(stalled(d, last));
             }
             last = size;
             d.iter_mut().zip(&delta).for_each(|(d, x)| *d += x);
@@ -83,10 +90,15 @@ impl Stepper {
     }
 }
 
-/// Per cover (`mass` its lumped mass), what turns each moving block's rigid rotation in `d` (the least-squares fit
-/// d_c ≈ t + ω × r_c over its covers, weighted by their lumped masses, r_c from their centre of
-/// mass at `state`) from the linear ω × r_c into the exact (R(ω) − I) r_c. About the centre of
-/// mass the correction carries no momentum.
+/// The largest displacement of `v` [m].
+fn largest(v: &[Vec3]) -> f64 {
+    v.iter().map(|x| x.norm()).fold(0.0, f64::max)
+}
+
+/// Per cover, what turns each moving block's rigid rotation in `d` (the least-squares fit
+/// d_c ≈ t + ω × r_c over its covers, weighted by their lumped masses `mass`, r_c from their
+/// centre of mass at `state`) from the linear ω × r_c into the exact (R(ω) − I) r_c. About the
+/// centre of mass the correction carries no momentum.
 fn exact_rotations(sys: &System, state: &State, mass: &[f64], d: &[Vec3]) -> Vec<Vec3> {
     let mut by_block: Vec<Vec<usize>> = vec![Vec::new(); sys.geometry.blocks.len()];
     for c in (0..d.len()).filter(|&c| sys.dofs.moves(c) && mass[c] > 0.0) {

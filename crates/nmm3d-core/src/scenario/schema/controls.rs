@@ -81,6 +81,10 @@ pub struct Analysis {
     /// A dynamic step's end is in equilibrium when the next correction would move it by at most
     /// this fraction of the step's largest displacement [-] (addition).
     pub step_equilibrium_tolerance: f64,
+    /// When the corrections stall (stop shrinking, or the iterations run out), the step keeps
+    /// its last iterate if the last correction moved it by at most this fraction of the step's
+    /// largest displacement, else its linear increment [-] (addition).
+    pub step_equilibrium_stall: f64,
     /// Strain measure: "corotational" (small strain in each ME's rotated frame) or
     /// "green_lagrange" (St Venant–Kirchhoff for large strains).
     pub strain_measure: StrainMeasure,
@@ -167,6 +171,7 @@ impl Default for Analysis {
             open_close_tolerance: 0.0,
             step_equilibrium_iterations: 4,
             step_equilibrium_tolerance: 1e-4,
+            step_equilibrium_stall: 1e-2,
             initial_equilibrium: false,
             checkpoint_interval: 600.0,
             max_static_iterations: 50,
