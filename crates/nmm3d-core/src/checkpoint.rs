@@ -1,6 +1,6 @@
 //! `checkpoint.json`: everything a run needs to continue exactly where it stopped — the whole
-//! [`State`], the stepper's contact points, pattern and counters, and what the recorder has
-//! gathered — with the scenario it belongs to. `nmm3d run --resume` reads it; a resumed run
+//! [`State`] (motion, contact points, counters, energy accounts), the stepper's caches (matrix
+//! pattern, factor) and what the recorder has gathered — with the scenario it belongs to. `nmm3d run --resume` reads it; a resumed run
 //! continues bit for bit as if it had never stopped (`tests/contract_checkpoint.rs`).
 //!
 //! JSON, so a checkpoint can be read and compared by people and tools; floats round-trip exactly
@@ -14,12 +14,13 @@ use serde_json::Value;
 use crate::error::{Error, Problem, Result};
 use crate::output::atomic;
 use crate::scenario::Scenario;
-use crate::state::State;
 use crate::time::snapshot::StepperSnapshot;
+use crate::time::State;
 use crate::time::{Cut, StepReport};
 
-/// Version of the file format.
-pub const VERSION: u32 = 1;
+/// Version of the file format (2: the contact points and counters moved from `stepper` into
+/// `state`; a version-1 file is read and moved over, see [`upgrade_v1`]).
+pub const VERSION: u32 = 2;
 /// File name in the output directory.
 pub const FILE: &str = "checkpoint.json";
 
@@ -33,9 +34,9 @@ pub struct Checkpoint {
     pub version: u32,
     /// The scenario as run, without the keys a resumed run may change.
     pub scenario: Value,
-    /// The whole state of the model.
+    /// The whole state of the run.
     pub state: State,
-    /// The stepper's state.
+    /// The stepper's caches.
     pub stepper: StepperSnapshot,
     /// The outputs gathered so far.
     pub record: RecordSnapshot,
@@ -107,19 +108,54 @@ pub fn read(out: &Path, scenario: &Scenario, label: &str) -> Result<Checkpoint> 
         }
         r => r.map_err(|e| Error::io(&path, e))?,
     };
-    let c: Checkpoint = serde_json::from_slice(&text)
-        .map_err(|e| problem(format!("{} is not a checkpoint of this version: {e}", path.display())))?;
-    if c.version != VERSION {
-        return Err(problem(format!(
-            "{} has format version {}, this nmm3d reads {VERSION}",
-            path.display(),
-            c.version
-        )));
+    let not_one =
+        |e: serde_json::Error| problem(format!("{} is not a checkpoint of this version: {e}", path.display()));
+    let mut value: Value = serde_json::from_slice(&text).map_err(not_one)?;
+    match value.get("version").and_then(Value::as_u64) {
+        Some(1) => upgrade_v1(&mut value),
+        Some(v) if v == u64::from(VERSION) => {}
+        v => {
+            let v = v.map_or("none".to_string(), |v| v.to_string());
+            return Err(problem(format!(
+                "{} has format version {v}, this nmm3d reads 1 and {VERSION}",
+                path.display()
+            )));
+        }
     }
+    let c: Checkpoint = serde_json::from_value(value).map_err(not_one)?;
     if let Some(key) = first_difference(&c.scenario, &comparable(scenario), String::new()) {
         return Err(problem(format!("the scenario differs from the checkpoint's at '{key}' (only analysis.duration, max_steps and checkpoint_interval may change)")));
     }
     Ok(c)
+}
+
+/// Move a version-1 checkpoint's run state into place: version 1 kept the motion alone in
+/// `state` and the contact points and counters in `stepper`.
+pub fn upgrade_v1(v: &mut Value) {
+    const COUNTERS: [&str; 9] = [
+        "force_scale",
+        "locked",
+        "inertia",
+        "penetration_cuts",
+        "penalty_raises",
+        "equilibrium_iterations",
+        "energy",
+        "undetected",
+        "contact_end",
+    ];
+    let Some(m) = v.as_object_mut() else { return };
+    let motion = m.remove("state").unwrap_or(Value::Null);
+    let mut stepper = match m.remove("stepper") {
+        Some(Value::Object(s)) => s,
+        _ => serde_json::Map::new(),
+    };
+    let contact = stepper.remove("contacts").unwrap_or(Value::Null);
+    let counters: serde_json::Map<String, Value> =
+        COUNTERS.iter().filter_map(|&k| stepper.remove(k).map(|x| (k.to_string(), x))).collect();
+    let state = serde_json::json!({ "motion": motion, "contact": contact, "stepper": counters });
+    let _ = m.insert("state".into(), state);
+    let _ = m.insert("stepper".into(), Value::Object(stepper));
+    let _ = m.insert("version".into(), Value::from(VERSION));
 }
 
 /// The key path of the first difference between two JSON values.

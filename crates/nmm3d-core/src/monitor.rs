@@ -9,7 +9,7 @@ use crate::element::kernel::stress_components;
 use crate::element::loads::weights_at;
 use crate::error::{Error, Result};
 use crate::scenario::{MonitorLocation, MonitorSelect, Quantity};
-use crate::state::State;
+use crate::state::Motion;
 use crate::system::System;
 use crate::time::corotation;
 
@@ -106,7 +106,7 @@ impl MonitorPlan {
     }
 
     /// Current values, in column order.
-    pub fn values(&self, sys: &System, state: &State) -> Vec<f64> {
+    pub fn values(&self, sys: &System, state: &Motion) -> Vec<f64> {
         let mut out = Vec::new();
         for q in &self.quantities {
             match q {
@@ -124,16 +124,16 @@ impl MonitorPlan {
         self.weights.iter().map(|(c, w)| *w * f(*c)).sum()
     }
 
-    fn rotation(&self, state: &State) -> Mat3 {
+    fn rotation(&self, state: &Motion) -> Mat3 {
         let f: Mat3 = Mat3::identity() + self.gradients.iter().map(|(c, g)| state.u[*c] * g.transpose()).sum::<Mat3>();
         corotation::rotation(&f, &Mat3::identity())
     }
 
-    fn volume(&self, sys: &System, state: &State) -> f64 {
+    fn volume(&self, sys: &System, state: &Motion) -> f64 {
         self.elements.iter().map(|&e| current_volume(sys, state, e)).sum()
     }
 
-    fn stress(&self, sys: &System, state: &State) -> [f64; 6] {
+    fn stress(&self, sys: &System, state: &Motion) -> [f64; 6] {
         let vol = sys.geometry.blocks[self.block].volume;
         let s: Mat3 =
             self.elements.iter().map(|&e| corotation::element_stress(sys, state, e) * sys.kernel(e).volume / vol).sum();
@@ -143,7 +143,7 @@ impl MonitorPlan {
 
 /// Current volume of ME `e`: every vertex mapped by x(ξ) = Σ w_a(ξ) x_a (exact for linear
 /// covers; hex8 faces are flattened through their mapped vertices).
-pub fn current_volume(sys: &System, state: &State, e: usize) -> f64 {
+pub fn current_volume(sys: &System, state: &Motion, e: usize) -> f64 {
     let me = &sys.covers.elements[e];
     let w = sys.covers.weights(me);
     let place =

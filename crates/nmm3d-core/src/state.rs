@@ -1,4 +1,6 @@
-//! The mutable state of a run: cheap to clone (rejected steps, checkpoints).
+//! The bodies' motion: the part of a run's state the elements and the contact points are
+//! measured on (the whole state, with the contact history and the stepper's counters, is
+//! [`crate::time::State`]).
 
 use nmm3d_geom::{Mat3, Vec3};
 
@@ -6,9 +8,10 @@ use crate::element::bolt::BoltState;
 use crate::scenario::AnalysisKind;
 use crate::system::System;
 
-/// Positions, velocities and accelerations of the physical covers, and time.
+/// Time, and the positions, velocities and accelerations of the physical covers, the MEs'
+/// co-rotations and the bolts' plastic state.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct State {
+pub struct Motion {
     /// Simulated time [s].
     pub time: f64,
     /// Accepted steps.
@@ -33,7 +36,7 @@ pub struct State {
     pub base: [Vec3; 2],
 }
 
-impl State {
+impl Motion {
     /// The state at t = 0: reference positions and the blocks' initial velocities.
     pub fn initial(sys: &System) -> Self {
         let dynamic = sys.scenario.analysis.kind == AnalysisKind::Dynamic;

@@ -61,7 +61,7 @@ fn stopped_and_resumed_equals_whole(name: &str, text: &str, at: u64) -> Checkpoi
 }
 
 fn holds_contact_points(c: &Checkpoint) -> bool {
-    c.stepper.contacts.as_ref().is_some_and(|c| !c.records.is_empty())
+    c.state.contact.as_ref().is_some_and(|c| !c.records.is_empty())
 }
 
 #[test]
@@ -95,6 +95,47 @@ fn a_vibrating_cantilever_solved_on_a_reused_factor_resumes_bit_identically() {
     let solver = &mid.stepper.factor;
     assert!(solver.source.is_some(), "the checkpoint holds the reused factor's matrix");
     assert!(solver.counts.krylov_solves >= 3, "{:?}", solver.counts);
+}
+
+/// A checkpoint in version 1's layout: the motion alone in `state`, the contact points and the
+/// counters in `stepper`.
+fn as_version_1(current: &serde_json::Value) -> serde_json::Value {
+    let mut v = current.clone();
+    let mut state = v["state"].take();
+    let mut stepper = v["stepper"].take();
+    stepper["contacts"] = state["contact"].take();
+    for (k, x) in state["stepper"].as_object().expect("the stepper's state") {
+        stepper[k] = x.clone();
+    }
+    v["state"] = state["motion"].take();
+    v["stepper"] = stepper;
+    v["version"] = 1.into();
+    v
+}
+
+/// Version 1 kept the contact points and counters beside the state; such a file is moved into
+/// the current layout and resumes as the current file does.
+#[test]
+fn a_version_1_checkpoint_resumes_as_the_current_one() {
+    let text = common::with(&common::example("incline.toml"), "duration = 1.0", "duration = 0.05");
+    let now = out_dir("checkpoint_v2");
+    let _ = run(scenario(&text), "<test>", &RunOptions { out: now.clone(), ..Default::default() }).unwrap();
+    let current: serde_json::Value = serde_json::from_slice(&read(&now, checkpoint::FILE)).unwrap();
+    assert!(current["state"]["contact"]["records"].as_array().is_some_and(|r| !r.is_empty()));
+    let mut old = as_version_1(&current);
+    let old_dir = out_dir("checkpoint_v1");
+    std::fs::create_dir_all(&old_dir).unwrap();
+    std::fs::write(old_dir.join(checkpoint::FILE), serde_json::to_vec(&old).unwrap()).unwrap();
+    checkpoint::upgrade_v1(&mut old);
+    assert_eq!(old, current, "version 1 moved over is the current checkpoint");
+
+    let longer = common::with(&text, "duration = 0.05", "duration = 0.1");
+    for dir in [&now, &old_dir] {
+        let r = run(scenario(&longer), "<test>", &RunOptions { out: dir.clone(), resume: true, ..Default::default() });
+        assert!(r.unwrap().completed);
+    }
+    assert!(read(&now, "diagnostics.csv") == read(&old_dir, "diagnostics.csv"), "the two resumed runs differ");
+    assert_eq!(checkpoint_of(&now), checkpoint_of(&old_dir));
 }
 
 #[test]

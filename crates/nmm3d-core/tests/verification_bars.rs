@@ -11,7 +11,7 @@ mod common;
 use common::{example, solve_static, with};
 use nmm3d_core::element::kernel::stress_components;
 use nmm3d_core::element::loads::weights_at;
-use nmm3d_core::state::State;
+use nmm3d_core::state::Motion;
 use nmm3d_core::system::System;
 use nmm3d_core::time::corotation::element_stress;
 use nmm3d_geom::Vec3;
@@ -23,7 +23,7 @@ fn bar(pattern: &str, rotation: &str) -> String {
     with(&text, "rotation = [10.0, 25.0, 40.0]", &format!("rotation = {rotation}"))
 }
 
-fn displacement_at(sys: &System, state: &State, p: Vec3) -> Vec3 {
+fn displacement_at(sys: &System, state: &Motion, p: Vec3) -> Vec3 {
     let (_, e) = sys.locate(&p).unwrap();
     let me = &sys.covers.elements[e];
     me.covers.iter().zip(weights_at(&sys.covers, me, &p)).map(|(&c, w)| w * state.u[c]).sum()

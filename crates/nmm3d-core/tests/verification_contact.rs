@@ -7,9 +7,8 @@ mod common;
 use common::{example, final_value, history, run_ok, scenario};
 use nmm3d_core::error::Error;
 use nmm3d_core::simulation::{RunOutcome, Status};
-use nmm3d_core::state::State;
 use nmm3d_core::system::System;
-use nmm3d_core::time::Stepper;
+use nmm3d_core::time::{State, Stepper};
 
 /// Materials, joint, base slab and analysis shared by the cube cases; `extra` adds bodies etc.
 fn cube_case(analysis: &str, joint: &str, extra: &str) -> String {
@@ -364,17 +363,18 @@ shape = {{ box = {{ min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0] }} }}
 "#
         );
         let sys = System::build(scenario(&text), "<test>").unwrap_or_else(|e| panic!("{e}"));
-        let mut state = State::initial(&sys);
-        let mut stepper = Stepper::new(&sys, &state, "<test>").unwrap_or_else(|e| panic!("{e}"));
-        stepper.initialize(&sys, &mut state).unwrap();
-        let p0 = sys.momentum(&state.v);
+        let mut whole = State::initial(&sys);
+        let mut stepper = Stepper::new(&sys, &mut whole, "<test>").unwrap_or_else(|e| panic!("{e}"));
+        stepper.initialize(&sys, &mut whole).unwrap();
+        let p0 = sys.momentum(&whole.motion.v);
         assert!((p0.x - 5000.0).abs() < 1e-6, "{integrator}: initial momentum {p0}");
         let mut touched = false;
-        while state.time < 0.02 {
-            let cap = 0.02 - state.time;
-            let r = stepper.step(&sys, &mut state, cap).unwrap_or_else(|e| panic!("{e}"));
+        while whole.motion.time < 0.02 {
+            let cap = 0.02 - whole.motion.time;
+            let r = stepper.step(&sys, &mut whole, cap).unwrap_or_else(|e| panic!("{e}"));
             touched |= r.contacts > 0 && r.max_penetration > 0.0;
         }
+        let state = &whole.motion;
         assert!(touched, "{integrator}: the blocks never touched");
         let p = sys.momentum(&state.v);
         assert!((p - p0).norm() < 1e-9 * p0.norm(), "{integrator}: momentum {p} vs {p0}");
@@ -403,8 +403,8 @@ shape = { box = { min = [0.9, 0.0, 0.0], max = [1.9, 1.0, 1.0] } }
 "#,
     );
     let sys = System::build(scenario(&text), "case.toml").unwrap();
-    let state = State::initial(&sys);
-    match Stepper::new(&sys, &state, "case.toml") {
+    let mut state = State::initial(&sys);
+    match Stepper::new(&sys, &mut state, "case.toml") {
         Err(e @ Error::Scenario { .. }) => {
             let m = e.to_string();
             assert!(

@@ -7,9 +7,8 @@ mod common;
 
 use common::{example, scenario, with};
 use nmm3d_core::simulation::Status;
-use nmm3d_core::state::State;
 use nmm3d_core::system::System;
-use nmm3d_core::time::Stepper;
+use nmm3d_core::time::{State, Stepper};
 use nmm3d_geom::contact::Mode;
 
 #[test]
@@ -17,14 +16,14 @@ fn dougong_collapses_with_crossing_contacts_and_no_deep_overlap() {
     let text = with(&example("dougong.toml"), "duration = 1.0", "duration = 0.5");
     let sys = System::build(scenario(&text), "dougong").unwrap_or_else(|e| panic!("{e}"));
     let mut state = State::initial(&sys);
-    let mut stepper = Stepper::new(&sys, &state, "dougong").unwrap_or_else(|e| panic!("{e}"));
+    let mut stepper = Stepper::new(&sys, &mut state, "dougong").unwrap_or_else(|e| panic!("{e}"));
     stepper.initialize(&sys, &mut state).unwrap();
     let (mut deepest, mut edge_edge) = (0.0f64, 0usize);
-    while state.time < 0.5 - 1e-12 {
-        let cap = 0.5 - state.time;
+    while state.motion.time < 0.5 - 1e-12 {
+        let cap = 0.5 - state.motion.time;
         let r = stepper.step(&sys, &mut state, cap).unwrap_or_else(|e| panic!("{e}"));
         deepest = deepest.max(r.max_penetration);
-        let c = stepper.contacts().expect("contacts");
+        let c = state.contact.as_ref().expect("contacts");
         edge_edge = edge_edge.max(
             c.records
                 .iter()
@@ -37,8 +36,14 @@ fn dougong_collapses_with_crossing_contacts_and_no_deep_overlap() {
     // It collapsed: the cap fell (mean displacement of its covers).
     let body = sys.scenario.body.iter().position(|b| b.name == "cap").unwrap();
     let cap = sys.geometry.blocks.iter().position(|b| b.body == body).unwrap();
-    let z: Vec<f64> =
-        sys.covers.covers.iter().enumerate().filter(|(_, c)| c.block == cap).map(|(i, _)| state.u[i].z).collect();
+    let z: Vec<f64> = sys
+        .covers
+        .covers
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| c.block == cap)
+        .map(|(i, _)| state.motion.u[i].z)
+        .collect();
     let fall = -z.iter().sum::<f64>() / z.len() as f64;
     assert!(fall > 0.2, "the cap fell only {fall} m");
 }

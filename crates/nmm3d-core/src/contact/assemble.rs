@@ -3,12 +3,12 @@
 
 use nmm3d_geom::Vec3;
 
+use super::history::ContactHistory;
 use super::record::{ContactRecord, ContactState};
-use super::set::ContactSet;
 use crate::assembly::{Coupling, SparsityPattern};
 use crate::system::System;
 
-impl ContactSet {
+impl ContactHistory {
     /// The springs of every closed point, summed per pair of MEs and scattered into `values`
     /// (on `pattern`) through the pair's coupling (its covers, lower ME first); the constant
     /// forces go straight to `force` per cover. A point's matrix is w wᵀ ⊗ B, so tied covers

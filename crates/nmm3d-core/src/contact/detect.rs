@@ -11,20 +11,20 @@ use rustc_hash::{FxHashMap, FxHashSet};
 use nmm3d_geom::contact::{detect_prepared, Contact, ContactPoint, DetectParams, Prepared};
 use nmm3d_geom::{ConvexPolyhedron, Vec3};
 
-use super::broad::Warning;
 use super::facets::{self, Candidate};
+use super::history::ContactHistory;
 use super::record::{ContactParams, ContactRecord, ContactState};
-use super::set::{ContactSet, ContactTimes};
+use super::set::{ContactSurfaces, ContactTimes};
 use super::surface::ContactPiece;
 use super::transfer::{bound_missed_overlap, inherit, missed_floor, REACH};
 use super::travel::Travel;
 use crate::scenario::Joint;
-use crate::state::State;
+use crate::state::Motion;
 use crate::system::System;
 
-impl ContactSet {
+impl ContactSurfaces {
     /// Contact surfaces of every block (`None` with fewer than two blocks).
-    pub fn new(sys: &System, params: ContactParams) -> Option<Self> {
+    pub fn new(sys: &System) -> Option<Self> {
         if sys.geometry.blocks.len() < 2 {
             return None;
         }
@@ -35,67 +35,57 @@ impl ContactSet {
             .enumerate()
             .flat_map(|(b, block)| block.pieces.iter().filter_map(move |p| ContactPiece::new(sys, b, p)))
             .collect();
-        Some(Self {
-            pieces,
-            records: Vec::new(),
-            params,
-            warning: Warning::default(),
-            times: ContactTimes::default(),
-            locked: false,
-            last_changes: Vec::new(),
-            travel: Travel::default(),
-            missed_overlaps: 0,
-        })
+        Some(Self { pieces, times: ContactTimes::default() })
     }
 
-    /// Re-detect on the current geometry; transfer state, shear, preload and bond from the
-    /// previous points. `initial`: the first detection, where touching points take the in-situ
-    /// traction and the joint's bond.
-    pub fn detect(&mut self, sys: &System, state: &State, initial: bool) {
+    /// Re-detect the points of `h` on the current geometry; transfer state, shear, preload and
+    /// bond from the previous points. `initial`: the first detection, where touching points
+    /// take the in-situ traction and the joint's bond.
+    pub fn detect(&mut self, sys: &System, state: &Motion, h: &mut ContactHistory, initial: bool) {
         let clock = Instant::now();
         let current: Vec<_> = self.pieces.par_iter().map(|p| p.current(sys, state)).collect();
-        let p = self.params;
+        let p = h.params;
         let pieces = &self.pieces;
         let keep = |i: usize, j: usize| {
             pieces[i].block != pieces[j].block && !both_fixed(sys, pieces[i].block, pieces[j].block)
         };
-        let pairs = self.warning.update(&current, p.margin, p.skin, keep).to_vec();
+        let pairs = h.warning.update(&current, p.margin, p.skin, keep).to_vec();
         self.times.warning += clock.elapsed().as_secs_f64();
         let clock = Instant::now();
         // Pairs whose blocks have not moved by the tolerance since their last detection keep
         // their points (`travel`); the others are detected again.
         let candidates: FxHashSet<(usize, usize)> = pairs.iter().map(|&q| self.blocks_of(q)).collect();
-        self.travel.retain(|q| candidates.contains(q));
-        let moved = |q: &(usize, usize)| initial || self.travel.since(self.blocks_of(*q), None) >= p.tolerance;
+        h.travel.retain(|q| candidates.contains(q));
+        let moved = |q: &(usize, usize)| initial || h.travel.since(self.blocks_of(*q), None) >= p.tolerance;
         let redo: Vec<(usize, usize)> = pairs.iter().copied().filter(moved).collect();
         let kept: FxHashSet<(usize, usize)> = pairs.iter().filter(|q| !moved(q)).map(|&q| self.blocks_of(q)).collect();
-        let found = self.find(sys, state, &current, (&redo, f64::NEG_INFINITY));
-        let previous = std::mem::take(&mut self.records);
+        let found = self.find(sys, state, &current, &p, (&redo, f64::NEG_INFINITY));
+        let previous = std::mem::take(&mut h.records);
         let mut by_pair: FxHashMap<(usize, usize), Vec<usize>> = FxHashMap::default();
         for (k, r) in previous.iter().enumerate() {
             if kept.contains(&r.blocks) {
                 let mut r = r.clone();
                 r.refresh(sys, state);
-                self.records.push(r);
+                h.records.push(r);
             } else {
                 by_pair.entry(r.blocks).or_default().push(k);
             }
         }
         for &q in &redo {
-            self.travel.mark(self.blocks_of(q));
+            h.travel.mark(self.blocks_of(q));
         }
         for (i, j, normal, points) in found {
             let blocks = (self.pieces[i].block, self.pieces[j].block);
             let joint = joint_between(sys, blocks.0, blocks.1);
             for q in points {
                 let mut r = ContactRecord::fresh(sys, q, blocks, normal, joint, initial, &p);
-                inherit(&mut r, &previous, by_pair.get(&blocks), &p, self.locked);
+                inherit(&mut r, &previous, by_pair.get(&blocks), &p, h.locked);
                 if !initial
                     && bound_missed_overlap(&mut r, missed_floor(&previous, by_pair.get(&blocks), REACH * p.tolerance))
                 {
-                    self.missed_overlaps += 1;
+                    h.missed_overlaps += 1;
                 }
-                self.records.push(r);
+                h.records.push(r);
             }
         }
         self.times.detection += clock.elapsed().as_secs_f64();
@@ -108,17 +98,17 @@ impl ContactSet {
     }
 
     /// The contact points of the candidate pairs `pairs` (piece indices) on the pieces' geometry
-    /// `current` at `state`: per detected pair, A's and B's piece (A of the higher block
-    /// index), the normal and the points. Pairs separated by more than −`overlap` (overlapping
-    /// by less) are left out.
+    /// `current` at `state` with the tolerances of `p`: per detected pair, A's and B's piece
+    /// (A of the higher block index), the normal and the points. Pairs separated by more than
+    /// −`overlap` (overlapping by less) are left out.
     fn find(
         &self,
         sys: &System,
-        state: &State,
+        state: &Motion,
         current: &[ConvexPolyhedron],
+        p: &ContactParams,
         (pairs, overlap): (&[(usize, usize)], f64),
     ) -> Vec<(usize, usize, Vec3, Vec<Candidate>)> {
-        let p = self.params;
         let dp = DetectParams { margin: p.margin, support_tolerance: p.tolerance, thin_distance: 10.0 * p.tolerance };
         let pieces = &self.pieces;
         // Prepared pieces and current facet vertices, once per piece and only for the pieces
@@ -148,64 +138,68 @@ impl ContactSet {
     /// of the pair within the transfer distance. Each is added as a point of the step's start
     /// (its gap measured at `start`), so the step can be solved again with it; without it the
     /// corner would pass into the face unresisted and be found deep at the next detection.
-    /// Returns the points added.
-    pub fn arrivals(&mut self, sys: &System, start: &State, end: &State) -> Vec<ContactRecord> {
+    /// Returns the points added (to `h` too).
+    pub fn arrivals(
+        &mut self,
+        sys: &System,
+        (start, end): (&Motion, &Motion),
+        h: &mut ContactHistory,
+    ) -> Vec<ContactRecord> {
         let clock = Instant::now();
         let current: Vec<_> = self.pieces.par_iter().map(|p| p.current(sys, end)).collect();
         // Only pairs whose blocks have moved by the tolerance since their detection, this
         // trial included, can have a point arrive.
         let trial: Vec<Vec3> = end.u.iter().zip(&start.u).map(|(e, s)| e - s).collect();
         let moved = Travel::per_block(sys, &trial);
-        let tol = self.params.tolerance;
-        let pairs: Vec<(usize, usize)> = (self.warning.pairs.iter().copied())
-            .filter(|&q| self.travel.since(self.blocks_of(q), Some(&moved)) >= tol)
+        let p = h.params;
+        let pairs: Vec<(usize, usize)> = (h.warning.pairs.iter().copied())
+            .filter(|&q| h.travel.since(self.blocks_of(q), Some(&moved)) >= p.tolerance)
             .collect();
         // Only pairs overlapping can have a point that arrived deeper than the tolerance (half
         // of it: the points' gaps are measured between material points, the separation between
         // the pieces' faces).
-        let found = self.find(sys, end, &current, (&pairs, 0.5 * self.params.tolerance));
-        let p = self.params;
+        let found = self.find(sys, end, &current, &p, (&pairs, 0.5 * p.tolerance));
         let reach = REACH * p.tolerance;
         let mut added = Vec::new();
         for (i, j, normal, points) in found {
             let blocks = (self.pieces[i].block, self.pieces[j].block);
-            let same: Vec<usize> = (0..self.records.len()).filter(|&k| self.records[k].blocks == blocks).collect();
+            let same: Vec<usize> = (0..h.records.len()).filter(|&k| h.records[k].blocks == blocks).collect();
             let joint = joint_between(sys, blocks.0, blocks.1);
             for mut q in points {
-                let known = same.iter().any(|&k| (self.records[k].a.reference - q.a.reference).norm() < reach);
+                let known = same.iter().any(|&k| (h.records[k].a.reference - q.a.reference).norm() < reach);
                 if q.gap >= -p.tolerance || known {
                     continue;
                 }
                 q.gap = normal.dot(&(q.a.position(sys, start) - q.b.position(sys, start)));
                 let mut r = ContactRecord::fresh(sys, q, blocks, normal, joint, false, &p);
-                inherit(&mut r, &self.records, Some(&same), &p, self.locked);
-                if bound_missed_overlap(&mut r, missed_floor(&self.records, Some(&same), reach)) {
-                    self.missed_overlaps += 1;
+                inherit(&mut r, &h.records, Some(&same), &p, h.locked);
+                if bound_missed_overlap(&mut r, missed_floor(&h.records, Some(&same), reach)) {
+                    h.missed_overlaps += 1;
                 }
                 added.push(r);
             }
         }
-        self.records.extend(added.iter().cloned());
+        h.records.extend(added.iter().cloned());
         self.times.detection += clock.elapsed().as_secs_f64();
         added
     }
 }
 
-impl ContactSet {
+impl ContactHistory {
     /// The same points as after the last step, at the current positions, without detecting
     /// again: each keeps its normal, state, springs and bond; its gap is re-measured between
     /// its material points. For steps after which no point has moved by the contact tolerance
     /// since the last detection, where a new detection would only make points at the edge of a
     /// face come and go with round-off — each arrival inheriting its neighbour's springs.
-    pub fn refresh(&mut self, sys: &System, state: &State) {
+    pub fn refresh(&mut self, sys: &System, state: &Motion) {
         self.records.iter_mut().for_each(|r| r.refresh(sys, state));
     }
 }
 
 impl ContactRecord {
     /// The same point at the current positions: its gap re-measured between its material
-    /// points; normal, state, springs and bond kept (see [`ContactSet::refresh`]).
-    fn refresh(&mut self, sys: &System, state: &State) {
+    /// points; normal, state, springs and bond kept (see [`ContactHistory::refresh`]).
+    fn refresh(&mut self, sys: &System, state: &Motion) {
         let gap = self.normal.dot(&(self.a.position(sys, state) - self.b.position(sys, state))) - self.offset;
         (self.gap0, self.gap, self.reclosed, self.opened) = (gap, gap, 0, false);
         if self.state != ContactState::Slide {
@@ -229,7 +223,7 @@ struct Surfaces<'a> {
 
 /// Contact point candidates of a detected pair: on the facets for a face-to-face contact, else
 /// the piece-level points (area shared equally); and the corners approaching the plane's face.
-fn candidates(sys: &System, state: &State, on: &Surfaces, c: &Contact, (tol, merge): (f64, f64)) -> Vec<Candidate> {
+fn candidates(sys: &System, state: &Motion, on: &Surfaces, c: &Contact, (tol, merge): (f64, f64)) -> Vec<Candidate> {
     let ((pa, pb), (ca, cb)) = (on.pieces, on.current);
     let (n, merge_sq) = (c.normal, merge * merge);
     let level = |p: &ConvexPolyhedron, f: fn(f64, f64) -> f64, init: f64| {
@@ -268,7 +262,7 @@ fn candidates(sys: &System, state: &State, on: &Surfaces, c: &Contact, (tol, mer
 /// Candidates at the piece-level points `points` of a detected pair, each with `area`.
 fn piece_points(
     sys: &System,
-    state: &State,
+    state: &Motion,
     on: &Surfaces,
     points: &[ContactPoint],
     (n, area, tol): (Vec3, f64, f64),

@@ -4,8 +4,8 @@
 
 use nmm3d_geom::{Mat3, Vec3};
 
+use super::history::ContactHistory;
 use super::record::{tangential, ContactRecord, ContactState};
-use super::set::ContactSet;
 
 impl ContactRecord {
     /// Shear force on A of the shear spring stretched by `extension`, with the tangential
@@ -35,7 +35,7 @@ impl ContactRecord {
     }
 }
 
-impl ContactSet {
+impl ContactHistory {
     /// After an accepted step: carry the shear-spring extension (and let open points hand back
     /// their raised overlap, `ContactRecord::relax_raised`). A sliding point's spring is
     /// left at the Coulomb limit, so the force is continuous when it sticks again (a reset
@@ -61,7 +61,7 @@ impl ContactSet {
     }
 }
 
-impl ContactSet {
+impl ContactHistory {
     /// Release the lock of the initial equilibrium: a closed point whose locked shear spring
     /// pulls harder than the friction limit is returned onto it (the spring shortened until
     /// |t·P − k_s s₀| = L). The energy that frees is the locked equilibrium's, not the run's:
@@ -83,23 +83,10 @@ impl ContactSet {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::contact::broad::Warning;
     use crate::contact::record::{test_point, ContactParams};
-    use crate::contact::set::ContactTimes;
 
-    fn set_of(r: ContactRecord) -> ContactSet {
-        let params = ContactParams::for_test();
-        ContactSet {
-            pieces: Vec::new(),
-            records: vec![r],
-            params,
-            warning: Warning::default(),
-            times: ContactTimes::default(),
-            locked: false,
-            last_changes: Vec::new(),
-            travel: crate::contact::travel::Travel::default(),
-            missed_overlaps: 0,
-        }
+    fn set_of(r: ContactRecord) -> ContactHistory {
+        ContactHistory { records: vec![r], ..ContactHistory::new(ContactParams::for_test()) }
     }
 
     #[test]

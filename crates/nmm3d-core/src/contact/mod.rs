@@ -26,24 +26,27 @@
 //! One concept per file: [`record`] (a point and its identity), [`transfer`] (what a new point
 //! inherits), [`rules`] (the open–close state rules), [`penalty`] (springs), [`friction`]
 //! (Coulomb friction), [`assemble`] (the contact terms of the system), [`detect`] (the detection
-//! driver), [`travel`] (which pairs need detecting again), [`set`] (all points of a run), on the
-//! surfaces of [`surface`] and the material points of [`point`].
+//! driver), [`travel`] (which pairs need detecting again), [`history`] (all points of a run: the
+//! contact part of the run's state), [`set`] (the surfaces they are detected on, and what the
+//! stepper asks of the points), on the surfaces of [`surface`] and the material points of
+//! [`point`].
 
 pub mod assemble;
 pub mod broad;
 pub mod detect;
 pub mod facets;
 pub mod friction;
+pub mod history;
 pub mod penalty;
 pub mod point;
 pub mod record;
 pub mod rules;
 pub mod set;
-pub mod snapshot;
 pub mod surface;
 pub mod transfer;
 pub mod travel;
 
 pub use assemble::pair_clique;
+pub use history::ContactHistory;
 pub use record::{ContactParams, ContactRecord, ContactState, Strength};
-pub use set::{overlap_problems, ContactSet, ContactTimes};
+pub use set::{overlap_problems, ContactSurfaces, ContactTimes};

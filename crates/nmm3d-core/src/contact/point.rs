@@ -3,7 +3,7 @@
 use nmm3d_geom::Vec3;
 
 use crate::element::loads::weights_at;
-use crate::state::State;
+use crate::state::Motion;
 use crate::system::System;
 
 /// A material point: the ME holding it and its weights (reference position kept).
@@ -31,12 +31,12 @@ impl MaterialPoint {
     }
 
     /// Current displacement [m].
-    pub fn displacement(&self, sys: &System, state: &State) -> Vec3 {
+    pub fn displacement(&self, sys: &System, state: &Motion) -> Vec3 {
         sys.covers.elements[self.element].covers.iter().zip(&self.weights).map(|(&c, w)| *w * state.u[c]).sum()
     }
 
     /// Current position [m].
-    pub fn position(&self, sys: &System, state: &State) -> Vec3 {
+    pub fn position(&self, sys: &System, state: &Motion) -> Vec3 {
         self.reference + self.displacement(sys, state)
     }
 }

@@ -4,20 +4,21 @@
 
 use nmm3d_geom::Vec3;
 
+use super::history::ContactHistory;
 use super::point::MaterialPoint;
 use super::record::{tangential, ContactRecord, ContactState};
-use super::set::ContactSet;
 use crate::system::System;
 
-impl ContactSet {
-    /// Update every point from the solved increments `d`: how many changed state, and how far
+impl ContactHistory {
+    /// Update every point from the solved increments `d`: how many changed state (their block
+    /// pairs replace those in `changes`), and how far
     /// the forces the solve applied are from the forces of the updated states (summed over the
     /// points, relative to the sum of the updated forces).
-    pub fn update_states(&mut self, sys: &System, d: &[Vec3]) -> (usize, f64) {
+    pub fn update_states(&mut self, sys: &System, d: &[Vec3], changes: &mut Vec<(usize, usize)>) -> (usize, f64) {
         let locked = self.locked;
         let (band, reclose, max_reclose) = (self.params.band, self.params.reclose, self.params.max_reclose);
         let mut changed = 0;
-        self.last_changes.clear();
+        changes.clear();
         // Largest change of a sliding point's friction force, and the largest friction limit.
         let (mut turned, mut largest) = (0.0f64, 0.0f64);
         let (mut mismatch, mut total) = (0.0f64, 0.0f64);
@@ -64,7 +65,7 @@ impl ContactSet {
             }
             if new != r.state {
                 changed += 1;
-                self.last_changes.push(r.blocks);
+                changes.push(r.blocks);
                 if new != ContactState::Stick {
                     r.strength = r.strength.broken();
                 }

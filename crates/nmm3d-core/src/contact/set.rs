@@ -1,33 +1,18 @@
-//! All contact points of a run with the surfaces they are found on, and what the stepper asks
-//! of them (overlaps, closed pairs, penetration, raising the penalties).
+//! The contact surfaces of a run, and what the stepper asks of its contact points (overlaps,
+//! closed pairs, penetration, raising the penalties).
 
-use super::broad::Warning;
-use super::record::{ContactParams, ContactRecord, ContactState};
+use super::history::ContactHistory;
+use super::record::{ContactRecord, ContactState};
 use super::surface::ContactPiece;
-use super::travel::Travel;
 use crate::error::Problem;
 use crate::system::System;
 
-/// All contact surfaces and the current contact points.
-pub struct ContactSet {
+/// The contact surfaces of every block (built from the model) and the seconds spent on them;
+/// the points found on them are the run's [`ContactHistory`].
+pub struct ContactSurfaces {
     pub(super) pieces: Vec<ContactPiece>,
-    /// Current contact points.
-    pub records: Vec<ContactRecord>,
-    /// Penalties and tolerances.
-    pub params: ContactParams,
-    /// The warning (candidate pair) list.
-    pub warning: Warning,
     /// Seconds spent so far.
     pub times: ContactTimes,
-    /// Closed points stay closed and stuck whatever the force (initial equilibrium).
-    pub locked: bool,
-    /// Block pairs of the points that changed state in the last open–close iteration.
-    pub last_changes: Vec<(usize, usize)>,
-    /// How far the blocks have moved since each pair was last detected.
-    pub travel: Travel,
-    /// Points found overlapping deeper than a detection lets one arise (bounded, see
-    /// `transfer::bound_missed_overlap`).
-    pub missed_overlaps: u64,
 }
 
 /// Seconds spent in the contact phases.
@@ -39,7 +24,7 @@ pub struct ContactTimes {
     pub detection: f64,
 }
 
-impl ContactSet {
+impl ContactHistory {
     /// Points overlapping deeper than `depth` [m].
     pub fn overlaps(&self, depth: f64) -> impl Iterator<Item = &ContactRecord> {
         self.records.iter().filter(move |r| r.gap0 + r.offset < -depth)
@@ -84,7 +69,7 @@ impl ContactSet {
 }
 
 /// Blocks overlapping deeper than `depth` at the start, as input problems naming the bodies.
-pub fn overlap_problems(sys: &System, set: &ContactSet, depth: f64) -> Vec<Problem> {
+pub fn overlap_problems(sys: &System, set: &ContactHistory, depth: f64) -> Vec<Problem> {
     let mut seen = std::collections::BTreeSet::new();
     set.overlaps(depth)
         .filter(|r| seen.insert(r.blocks))

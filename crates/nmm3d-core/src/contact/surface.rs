@@ -5,7 +5,7 @@ use nmm3d_geom::{ConvexPolyhedron, Face, FaceTag, Vec3};
 
 use super::facets::{facets_of_piece, Facet};
 use super::point::{barycentric, in_plane, MaterialPoint};
-use crate::state::State;
+use crate::state::Motion;
 use crate::system::System;
 
 /// One convex piece as a contact surface.
@@ -44,7 +44,7 @@ impl ContactPiece {
     }
 
     /// Current geometry.
-    pub fn current(&self, sys: &System, state: &State) -> ConvexPolyhedron {
+    pub fn current(&self, sys: &System, state: &Motion) -> ConvexPolyhedron {
         let x: Vec<Vec3> = self.vertices.iter().map(|m| m.position(sys, state)).collect();
         ConvexPolyhedron {
             faces: self
@@ -56,7 +56,7 @@ impl ContactPiece {
     }
 
     /// Current vertices of every facet.
-    pub fn facet_positions(&self, sys: &System, state: &State) -> Vec<Vec<Vec3>> {
+    pub fn facet_positions(&self, sys: &System, state: &Motion) -> Vec<Vec<Vec3>> {
         self.facets.iter().map(|f| f.vertices.iter().map(|m| m.position(sys, state)).collect()).collect()
     }
 
@@ -71,7 +71,7 @@ impl ContactPiece {
     pub fn material_point(
         &self,
         sys: &System,
-        state: &State,
+        state: &Motion,
         cur: &ConvexPolyhedron,
         p: &Vec3,
         tol: f64,
@@ -136,7 +136,7 @@ mod tests {
     use super::*;
 
     /// A frustum, 2 m square at its base and 1 m at its top (1 m high), moved by `t`.
-    fn frustum(t: Vec3) -> (System, State) {
+    fn frustum(t: Vec3) -> (System, Motion) {
         let text = r#"
 [analysis]
 duration = 0.001
@@ -157,7 +157,7 @@ shape = { convex = { planes = [
 ] } }
 "#;
         let sys = System::build(crate::input::from_toml_str(text, "<test>", &[]).unwrap(), "<test>").unwrap();
-        let mut state = State::initial(&sys);
+        let mut state = Motion::initial(&sys);
         state.u.iter_mut().for_each(|u| *u = t);
         (sys, state)
     }

@@ -16,8 +16,10 @@ use nmm3d_geom::Vec3;
 
 use crate::system::System;
 
-/// Distance run per block and where each pair was last detected.
-#[derive(Debug, Clone, Default, PartialEq)]
+/// Distance run per block and where each pair was last detected (serialised as a
+/// [`TravelSnapshot`]: pairs sorted, so equal travels give equal files).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(from = "TravelSnapshot", into = "TravelSnapshot")]
 pub struct Travel {
     /// Per block: the sum over accepted steps of its largest cover displacement [m].
     odometer: Vec<f64>,
@@ -25,7 +27,7 @@ pub struct Travel {
     seen: FxHashMap<(usize, usize), (f64, f64)>,
 }
 
-/// A [`Travel`] as data (checkpoints), pairs sorted.
+/// A [`Travel`] as data, pairs sorted.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct TravelSnapshot {
     odometer: Vec<f64>,
@@ -67,16 +69,18 @@ impl Travel {
     pub fn retain(&mut self, keep: impl Fn(&(usize, usize)) -> bool) {
         self.seen.retain(|p, _| keep(p));
     }
+}
 
-    /// The state as data.
-    pub fn snapshot(&self) -> TravelSnapshot {
-        let mut seen: Vec<_> = self.seen.iter().map(|(&p, &s)| (p, s)).collect();
+impl From<Travel> for TravelSnapshot {
+    fn from(t: Travel) -> Self {
+        let mut seen: Vec<_> = t.seen.into_iter().collect();
         seen.sort_unstable_by_key(|x| x.0);
-        TravelSnapshot { odometer: self.odometer.clone(), seen }
+        Self { odometer: t.odometer, seen }
     }
+}
 
-    /// The travel a snapshot describes.
-    pub fn restore(s: TravelSnapshot) -> Self {
+impl From<TravelSnapshot> for Travel {
+    fn from(s: TravelSnapshot) -> Self {
         Self { odometer: s.odometer, seen: s.seen.into_iter().collect() }
     }
 }
@@ -97,7 +101,7 @@ mod tests {
         assert_eq!(t.since((0, 1), None), 0.0);
         t.retain(|_| false);
         assert_eq!(t.since((0, 1), None), f64::INFINITY);
-        let restored = Travel::restore(t.snapshot());
-        assert_eq!(restored, t);
+        let text = serde_json::to_string(&t).unwrap();
+        assert_eq!(serde_json::from_str::<Travel>(&text).unwrap(), t);
     }
 }

@@ -7,7 +7,7 @@ use std::io::Write;
 use std::time::Instant;
 
 use crate::scenario::{Analysis, AnalysisKind};
-use crate::state::State;
+use crate::state::Motion;
 use crate::time::StepReport;
 
 /// Where progress goes.
@@ -48,7 +48,7 @@ pub struct Progress {
 
 impl Progress {
     /// Progress from the state the stepping starts at.
-    pub fn new(mode: ProgressMode, state: &State) -> Self {
+    pub fn new(mode: ProgressMode, state: &Motion) -> Self {
         Self {
             mode,
             start: Instant::now(),
@@ -61,7 +61,7 @@ impl Progress {
     }
 
     /// After each accepted step.
-    pub fn step(&mut self, a: &Analysis, state: &State, report: &StepReport) {
+    pub fn step(&mut self, a: &Analysis, state: &Motion, report: &StepReport) {
         if self.mode == ProgressMode::Off {
             return;
         }
@@ -102,7 +102,7 @@ impl Progress {
             if self.mode == ProgressMode::Terminal { writeln!(err, "\r{text}\x1b[K") } else { writeln!(err, "{text}") };
     }
 
-    fn notes(&mut self, a: &Analysis, state: &State, report: &StepReport, wall: f64) {
+    fn notes(&mut self, a: &Analysis, state: &Motion, report: &StepReport, wall: f64) {
         if !self.estimated
             && a.kind == AnalysisKind::Dynamic
             && wall >= ESTIMATE_AFTER_SECONDS
@@ -128,7 +128,7 @@ impl Progress {
         }
     }
 
-    fn line(&self, a: &Analysis, state: &State, report: &StepReport, wall: f64) -> String {
+    fn line(&self, a: &Analysis, state: &Motion, report: &StepReport, wall: f64) -> String {
         let cuts: u32 = self.recent.iter().map(|r| r.2).sum();
         let head = match a.kind {
             AnalysisKind::Dynamic => {
@@ -152,7 +152,7 @@ impl Progress {
     }
 
     /// Wall seconds left at the rate of the recent window; `None` before anything moved.
-    fn remaining(&self, a: &Analysis, state: &State, wall: f64) -> Option<f64> {
+    fn remaining(&self, a: &Analysis, state: &Motion, wall: f64) -> Option<f64> {
         let (w0, t0) = self.recent.front().map_or((0.0, self.t0), |r| (r.0, r.1));
         let (dw, dt) = if self.recent.len() > 2 { (wall - w0, state.time - t0) } else { (wall, state.time - self.t0) };
         (dt > 0.0 && dw > 0.0).then(|| (a.duration - state.time).max(0.0) * dw / dt)

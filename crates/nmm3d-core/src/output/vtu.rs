@@ -24,7 +24,7 @@ use super::atomic;
 use crate::contact::ContactRecord;
 use crate::element::kernel::stress_components;
 use crate::error::Result;
-use crate::state::State;
+use crate::state::Motion;
 use crate::system::System;
 use crate::time::corotation;
 use nmm3d_geom::contact::Mode;
@@ -185,7 +185,7 @@ impl Appended {
 }
 
 /// Write one frame.
-pub fn write_frame(sys: &System, state: &State, path: &Path) -> Result<()> {
+pub fn write_frame(sys: &System, state: &Motion, path: &Path) -> Result<()> {
     let mut cells = Cells::default();
     let quantum = POINT_QUANTUM * sys.covers.mesh.size;
     let (mut disp, mut vel, mut reference) = (Vec::new(), Vec::new(), Vec::new());
@@ -227,7 +227,7 @@ pub fn write_frame(sys: &System, state: &State, path: &Path) -> Result<()> {
 }
 
 /// Write the contact points of a frame (forces on A, the block of higher index).
-pub fn write_contacts(sys: &System, state: &State, records: &[ContactRecord], path: &Path) -> Result<()> {
+pub fn write_contacts(sys: &System, state: &Motion, records: &[ContactRecord], path: &Path) -> Result<()> {
     let points: Vec<Vec3> = records.iter().map(|r| r.a.position(sys, state) + sys.geometry.origin).collect();
     let normal: Vec<Vec3> = records.iter().map(|r| r.normal).collect();
     let normal_force: Vec<f64> = records.iter().map(|r| r.normal.dot(&r.force)).collect();

@@ -6,12 +6,11 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use crate::checkpoint::RecordSnapshot;
-use crate::contact::ContactSet;
 use crate::error::Result;
 use crate::monitor::MonitorPlan;
 use crate::output::{cuts, tables, vtu};
-use crate::state::State;
 use crate::system::System;
+use crate::time::State;
 
 /// Records history rows and frames as the run goes.
 pub(super) struct Recorder {
@@ -62,13 +61,8 @@ impl Recorder {
         }
     }
 
-    pub(super) fn record(
-        &mut self,
-        sys: &System,
-        state: &State,
-        contacts: Option<&ContactSet>,
-        first: bool,
-    ) -> Result<()> {
+    pub(super) fn record(&mut self, sys: &System, whole: &State, first: bool) -> Result<()> {
+        let state = &whole.motion;
         let t = Instant::now();
         let a = &sys.scenario.analysis;
         let eps = 1e-9 * a.dt;
@@ -84,7 +78,7 @@ impl Recorder {
             }
         }
         if first || (a.output_interval > 0.0 && state.time + eps >= self.next_frame) {
-            self.frame(sys, state, contacts)?;
+            self.frame(sys, whole)?;
             if a.output_interval > 0.0 {
                 self.next_frame =
                     (state.time / a.output_interval + 1e-9).floor() * a.output_interval + a.output_interval;
@@ -97,7 +91,8 @@ impl Recorder {
         Ok(())
     }
 
-    pub(super) fn frame(&mut self, sys: &System, state: &State, contacts: Option<&ContactSet>) -> Result<()> {
+    pub(super) fn frame(&mut self, sys: &System, whole: &State) -> Result<()> {
+        let (state, contacts) = (&whole.motion, whole.contact.as_ref());
         let k = self.frames.len();
         let name = format!("frames/blocks_{k:05}.vtu");
         vtu::write_frame(sys, state, &self.out.join(&name))?;
@@ -115,9 +110,9 @@ impl Recorder {
         self.history.write(&self.out)
     }
 
-    pub(super) fn finish(&mut self, sys: &System, state: &State, contacts: Option<&ContactSet>) -> Result<()> {
-        if self.last_frame_step != Some(state.step) {
-            self.frame(sys, state, contacts)?;
+    pub(super) fn finish(&mut self, sys: &System, state: &State) -> Result<()> {
+        if self.last_frame_step != Some(state.motion.step) {
+            self.frame(sys, state)?;
         }
         tables::write_diagnostics(&self.out, &self.diagnostics)?;
         cuts::write(&self.out, &self.cut_log)?;

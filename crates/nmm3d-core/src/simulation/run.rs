@@ -16,9 +16,8 @@ use crate::output::progress::{Progress, ProgressMode};
 use crate::output::summary::{RunSummary, Status};
 use crate::output::{atomic, run_dir, tables};
 use crate::scenario::{AnalysisKind, Scenario};
-use crate::state::State;
 use crate::system::System;
-use crate::time::Stepper;
+use crate::time::{State, Stepper};
 
 use super::recorder::Recorder;
 use super::summary::{summary, Ending};
@@ -74,7 +73,7 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
     // Held to the end of the run: no other run writes here meanwhile.
     let _dir = run_dir::open(out, label, !opts.resume)?;
     let resumed = if opts.resume { Some(checkpoint::read(out, &scenario, label)?) } else { None };
-    let resumed_at = resumed.as_ref().map(|c| (c.state.step, c.state.time));
+    let resumed_at = resumed.as_ref().map(|c| (c.state.motion.step, c.state.motion.time));
     let mut saver = Saver::new(out, checkpoint::comparable(&scenario), scenario.analysis.checkpoint_interval);
     let sys = System::build(scenario, label)?;
     let monitors = MonitorPlan::all(&sys, label)?;
@@ -88,12 +87,12 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
             (c.state, Stepper::resume(&sys, c.stepper)?)
         }
         None => {
-            let state = State::initial(&sys);
-            let stepper = Stepper::new(&sys, &state, label)?;
+            let mut state = State::initial(&sys);
+            let stepper = Stepper::new(&sys, &mut state, label)?;
             (state, stepper)
         }
     };
-    let mut progress = Progress::new(progress_mode(opts.progress), &state);
+    let mut progress = Progress::new(progress_mode(opts.progress), &state.motion);
     let started =
         if resumed_at.is_some() { Ok(()) } else { start(&sys, &mut state, &mut stepper, &mut rec, &mut saver) };
     let result = started
@@ -107,7 +106,7 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
         Err(e @ (Error::Diverged { .. } | Error::Solver { .. })) => (Status::Failed, e.to_string()),
         Err(e) => return Err(failed(&sys, &state, &stepper, &rec, e, t_start)),
     };
-    let written = rec.finish(&sys, &state, stepper.contacts());
+    let written = rec.finish(&sys, &state);
     if let Err(e) =
         written.and_then(|_| if status == Status::Failed { Ok(()) } else { saver.save(&state, &stepper, &rec) })
     {
@@ -163,7 +162,7 @@ fn start(sys: &System, state: &mut State, stepper: &mut Stepper, rec: &mut Recor
     if sys.scenario.analysis.initial_equilibrium {
         saver.initial_equilibrium = Some(stepper.settle(sys, state)?);
     }
-    rec.record(sys, state, stepper.contacts(), true)
+    rec.record(sys, state, true)
 }
 
 /// Writes `checkpoint.json`: every `interval` wall seconds during the run and at its end.
@@ -201,7 +200,7 @@ impl Saver {
 /// Step until the end or a stop request.
 fn advance(
     sys: &System,
-    state: &mut State,
+    whole: &mut State,
     stepper: &mut Stepper,
     rec: &mut Recorder,
     progress: &mut Progress,
@@ -211,6 +210,7 @@ fn advance(
     let a = &sys.scenario.analysis;
     let end = a.duration;
     loop {
+        let state = &whole.motion;
         let unbalanced = rec.last_unbalanced;
         let static_run = a.kind == AnalysisKind::Static;
         if state.time >= end * (1.0 - 1e-12) {
@@ -232,8 +232,9 @@ fn advance(
                 End::Completed(at)
             });
         }
-        let cap = (end - state.time).max(0.0);
-        let report = stepper.step(sys, state, cap)?;
+        let cap = (end - whole.motion.time).max(0.0);
+        let report = stepper.step(sys, whole, cap)?;
+        let state = &whole.motion;
         rec.cut_log.append(&mut stepper.cuts);
         rec.last_unbalanced = report.unbalanced;
         rec.cuts += report.cuts as u64;
@@ -248,7 +249,7 @@ fn advance(
                 reason: "a displacement is not finite".into(),
             });
         }
-        rec.record(sys, state, stepper.contacts(), false)?;
+        rec.record(sys, whole, false)?;
         progress.step(a, state, &report);
         if a.kind == AnalysisKind::Static && state.step > 1 && report.unbalanced <= a.equilibrium_tolerance {
             return Ok(End::Completed(format!(
@@ -257,7 +258,7 @@ fn advance(
             )));
         }
         if saver.due() {
-            saver.save(state, stepper, rec)?;
+            saver.save(whole, stepper, rec)?;
         }
         if stop.is_some_and(|s| (s.0)()) {
             return Ok(End::Interrupted(format!(

@@ -6,9 +6,8 @@ use std::collections::BTreeMap;
 use super::recorder::Recorder;
 use crate::output::summary::{EnergySummary, InitialEquilibrium, ResumedFrom, RunSummary, Status};
 use crate::output::{checks, cuts};
-use crate::state::State;
 use crate::system::System;
-use crate::time::Stepper;
+use crate::time::{State, Stepper};
 
 /// What the run adds to the summary beyond its own state: how it ended, how long it took, how
 /// it started.
@@ -22,7 +21,8 @@ pub(super) struct Ending<'a> {
     pub resumed_at: Option<(u64, f64)>,
 }
 
-pub(super) fn summary(sys: &System, state: &State, stepper: &Stepper, rec: &Recorder, end: &Ending) -> RunSummary {
+pub(super) fn summary(sys: &System, whole: &State, stepper: &Stepper, rec: &Recorder, end: &Ending) -> RunSummary {
+    let (state, run) = (&whole.motion, &whole.stepper);
     let last = rec.final_values();
     let counts = stepper.solve_counts();
     RunSummary {
@@ -39,10 +39,10 @@ pub(super) fn summary(sys: &System, state: &State, stepper: &Stepper, rec: &Reco
         max_contact_points: rec.max_contacts,
         open_close_iterations: rec.open_close,
         step_cuts: rec.cuts,
-        penetration_cuts: stepper.penetration_cuts,
-        penalty_raises: stepper.penalty_raises,
-        equilibrium_iterations: stepper.equilibrium_iterations,
-        missed_overlaps: stepper.contacts().map_or(0, |c| c.missed_overlaps),
+        penetration_cuts: run.penetration_cuts,
+        penalty_raises: run.penalty_raises,
+        equilibrium_iterations: run.equilibrium_iterations,
+        missed_overlaps: whole.contact.as_ref().map_or(0, |c| c.missed_overlaps),
         pattern_rebuilds: stepper.pattern_rebuilds(),
         factor_nonzeros: stepper.factor_nonzeros(),
         factorizations: counts.factorizations,
@@ -50,7 +50,7 @@ pub(super) fn summary(sys: &System, state: &State, stepper: &Stepper, rec: &Reco
         krylov_iterations: counts.krylov_iterations,
         krylov_failures: counts.krylov_failures,
         unbalanced_force_ratio: Some(rec.last_unbalanced).filter(|r| r.is_finite()),
-        energy: energy_summary(stepper.energy.as_ref(), &rec.diagnostics),
+        energy: energy_summary(run.energy.as_ref(), &rec.diagnostics),
         step_diagnostics: cuts::summary(sys, &rec.cut_log, &rec.diagnostics),
         stress_sign: "compression negative".into(),
         timings: timings(sys, stepper, rec),

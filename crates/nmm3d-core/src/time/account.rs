@@ -5,7 +5,7 @@ use nmm3d_geom::Vec3;
 
 use super::energy::Energy;
 use super::vectors::{equation_vector, kinetic_energy, mass_times};
-use crate::state::State;
+use crate::state::Motion;
 use crate::system::System;
 
 /// What an accepted step's energy accounts need besides the state.
@@ -30,7 +30,7 @@ pub(super) struct Increment<'a> {
 /// its tangent stiffness on the system's pattern.
 pub(super) fn add_step(
     sys: &System,
-    state: &State,
+    state: &Motion,
     s: &Increment,
     (loads, tangent): (&[Vec3], &[f64]),
     so_far: &mut Option<Energy>,

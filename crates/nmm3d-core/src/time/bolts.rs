@@ -7,14 +7,14 @@
 use nmm3d_geom::Vec3;
 
 use super::stepper::Stepper;
-use crate::state::State;
+use crate::state::Motion;
 use crate::system::System;
 
 /// A bolt within this fraction of its yield force is yielding.
 const YIELD_TOLERANCE: f64 = 1e-9;
 
 /// Add the unbroken bolts' forces to `residual` and their springs to `tangent` if given.
-pub(super) fn add_bolts(sys: &System, state: &State, residual: &mut [Vec3], mut tangent: Option<&mut Vec<f64>>) {
+pub(super) fn add_bolts(sys: &System, state: &Motion, residual: &mut [Vec3], mut tangent: Option<&mut Vec<f64>>) {
     let first = sys.covers.elements.len();
     for (k, (b, s)) in sys.bolts.iter().zip(&state.bolts).enumerate().filter(|(_, (_, s))| !s.broken) {
         let tension = b.tension(b.elongation(&state.u), s.plastic);
@@ -31,7 +31,7 @@ pub(super) fn add_bolts(sys: &System, state: &State, residual: &mut [Vec3], mut 
 
 impl Stepper {
     /// After an accepted step: each bolt yields or breaks at its elongation.
-    pub(super) fn update_bolts(&self, sys: &System, state: &mut State) {
+    pub(super) fn update_bolts(&self, sys: &System, state: &mut Motion) {
         for (b, s) in sys.bolts.iter().zip(state.bolts.iter_mut()) {
             let delta = b.elongation(&state.u);
             s.update(b, delta);
@@ -41,7 +41,7 @@ impl Stepper {
 
 /// Tension [N] (0 once broken) and elongation [m] of each bolt, in the order of its history
 /// columns.
-pub fn bolt_values(sys: &System, state: &State) -> Vec<f64> {
+pub fn bolt_values(sys: &System, state: &Motion) -> Vec<f64> {
     sys.bolts
         .iter()
         .zip(&state.bolts)

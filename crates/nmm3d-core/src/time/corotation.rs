@@ -11,7 +11,7 @@
 use nmm3d_geom::{Mat3, Vec3};
 
 use crate::element::kernel::{hooke, stress_matrix};
-use crate::state::State;
+use crate::state::Motion;
 use crate::system::System;
 
 /// Convergence of the polar decomposition (Müller et al. 2016 iteration in nalgebra).
@@ -20,7 +20,7 @@ const POLAR_EPS: f64 = 1e-13;
 const POLAR_MAX_ITER: usize = 100;
 
 /// Mean deformation gradient of ME `e`.
-pub fn deformation_gradient(sys: &System, state: &State, e: usize) -> Mat3 {
+pub fn deformation_gradient(sys: &System, state: &Motion, e: usize) -> Mat3 {
     let k = sys.kernel(e);
     // Σ X_a ⊗ ḡ_a = I exactly (linear reproduction), so F = I + Σ u_a ⊗ ḡ_a.
     let du: Mat3 =
@@ -35,7 +35,7 @@ pub fn rotation(f: &Mat3, guess: &Mat3) -> Mat3 {
 }
 
 /// Local (co-rotated) displacement of each cover of ME `e`.
-pub fn local_displacements(sys: &System, state: &State, e: usize, r: &Mat3) -> Vec<Vec3> {
+pub fn local_displacements(sys: &System, state: &Motion, e: usize, r: &Mat3) -> Vec<Vec3> {
     // Rᵀ(X + u) − X = (Rᵀ − I) X + Rᵀ u, which keeps small strains exact far from the origin.
     let rt = r.transpose();
     let rt_minus_i = rt - Mat3::identity();
@@ -47,7 +47,7 @@ pub fn local_displacements(sys: &System, state: &State, e: usize, r: &Mat3) -> V
 }
 
 /// Volume-mean Cauchy stress of ME `e` in global axes [Pa], compression negative.
-pub fn element_stress(sys: &System, state: &State, e: usize) -> Mat3 {
+pub fn element_stress(sys: &System, state: &Motion, e: usize) -> Mat3 {
     let r = state.rotations[e];
     let u = local_displacements(sys, state, e, &r);
     let corotational = r * local_stress(sys, e, &u) * r.transpose();
@@ -71,7 +71,7 @@ fn mean_strain(sys: &System, e: usize, u: &[Vec3]) -> Mat3 {
 /// With `strain_measure = "green_lagrange"`: the ME's mean deformation gradient F̄, the second
 /// Piola–Kirchhoff stress S(Ē) of its Green–Lagrange strain, and the linear (local) stress it
 /// replaces.
-fn green_lagrange(sys: &System, state: &State, e: usize, u: &[Vec3]) -> Option<(Mat3, Mat3, Mat3)> {
+fn green_lagrange(sys: &System, state: &Motion, e: usize, u: &[Vec3]) -> Option<(Mat3, Mat3, Mat3)> {
     if sys.scenario.analysis.strain_measure != crate::scenario::StrainMeasure::GreenLagrange {
         return None;
     }
@@ -98,17 +98,17 @@ fn tensile_part(s: &Mat3) -> Mat3 {
 /// k_ab = V (mean ∇w_a) · σ⁺ (mean ∇w_b) I. Tension stiffens membranes and
 /// bent plates (large deflections converge); compression is left out so the matrix stays
 /// positive definite. The tangent only steers the iteration: the force is exact either way.
-pub fn internal_force_and_tangent(sys: &System, state: &State, e: usize, r: &Mat3) -> (Vec<Vec3>, Vec<f64>) {
+pub fn internal_force_and_tangent(sys: &System, state: &Motion, e: usize, r: &Mat3) -> (Vec<Vec3>, Vec<f64>) {
     forces(sys, state, e, r, true)
 }
 
 /// Internal force of ME `e` per cover alone (as [`internal_force_and_tangent`]).
-pub fn internal_force(sys: &System, state: &State, e: usize, r: &Mat3) -> Vec<Vec3> {
+pub fn internal_force(sys: &System, state: &Motion, e: usize, r: &Mat3) -> Vec<Vec3> {
     forces(sys, state, e, r, false).0
 }
 
 /// The force, and the tangent when `with_tangent` (empty otherwise).
-fn forces(sys: &System, state: &State, e: usize, r: &Mat3, with_tangent: bool) -> (Vec<Vec3>, Vec<f64>) {
+fn forces(sys: &System, state: &Motion, e: usize, r: &Mat3, with_tangent: bool) -> (Vec<Vec3>, Vec<f64>) {
     let k = sys.kernel(e);
     let n = k.n;
     let u = local_displacements(sys, state, e, r);
@@ -141,7 +141,7 @@ fn forces(sys: &System, state: &State, e: usize, r: &Mat3, with_tangent: bool) -
 /// Green–Lagrange correction V (F̄ S(Ē) − R σ_lin) (per unit mean gradient) of ME `e`: the
 /// mean (constant-strain) part of the element taken to St Venant–Kirchhoff; zero at small
 /// strain, exact SVK for linear covers, bending of hex8 left co-rotational.
-fn large_strain_correction(sys: &System, state: &State, e: usize, r: &Mat3, u: &[Vec3]) -> Option<Mat3> {
+fn large_strain_correction(sys: &System, state: &Motion, e: usize, r: &Mat3, u: &[Vec3]) -> Option<Mat3> {
     green_lagrange(sys, state, e, u).map(|(f, svk, linear)| sys.kernel(e).volume * (f * svk - r * linear))
 }
 

@@ -4,9 +4,9 @@
 use nmm3d_geom::Vec3;
 use serde::{Deserialize, Serialize};
 
-use crate::contact::{ContactSet, ContactState};
+use crate::contact::{ContactHistory, ContactState};
 use crate::error::Error;
-use crate::state::State;
+use crate::state::Motion;
 use crate::system::System;
 
 /// Blocks named per cut at most.
@@ -73,10 +73,11 @@ pub fn moved_too_far(sys: &System, d: &[Vec3], limit: f64) -> Vec<usize> {
     ranked(worst)
 }
 
-/// Blocks with the most points that changed state in the last open–close iteration.
-pub fn unsettled(contacts: Option<&ContactSet>) -> Vec<usize> {
+/// Blocks with the most points that changed state in the last open–close iteration (`changes`:
+/// the block pairs of those points).
+pub fn unsettled(changes: &[(usize, usize)]) -> Vec<usize> {
     let mut count: Vec<(usize, f64)> = Vec::new();
-    for &(a, b) in contacts.map_or(&[][..], |c| &c.last_changes) {
+    for &(a, b) in changes {
         for block in [a, b] {
             match count.iter_mut().find(|(x, _)| *x == block) {
                 Some(w) => w.1 += 1.0,
@@ -89,7 +90,7 @@ pub fn unsettled(contacts: Option<&ContactSet>) -> Vec<usize> {
 
 /// Blocks of the closed points overlapping deeper than `depth` [m], the deepest first, and the
 /// deepest overlap.
-pub fn overlapping(contacts: Option<&ContactSet>, depth: f64) -> (Vec<usize>, f64) {
+pub fn overlapping(contacts: Option<&ContactHistory>, depth: f64) -> (Vec<usize>, f64) {
     let mut worst: Vec<(usize, f64)> = Vec::new();
     for r in contacts.map_or(&[][..], |c| &c.records) {
         if r.state != ContactState::Open && -r.gap > depth {
@@ -137,7 +138,7 @@ impl CutReason {
 
 /// The run error of a step that failed at the smallest Δt for `reason` (with the trial's
 /// displacement ratio), naming the blocks of the last cut.
-pub fn diverged(sys: &System, state: &State, dt: f64, (reason, ratio): (CutReason, f64), last: Option<&Cut>) -> Error {
+pub fn diverged(sys: &System, state: &Motion, dt: f64, (reason, ratio): (CutReason, f64), last: Option<&Cut>) -> Error {
     let blocks = last.map_or(String::new(), |c| named(sys, &c.blocks));
     let reason = match reason {
         CutReason::OpenCloseUnsettled => format!(

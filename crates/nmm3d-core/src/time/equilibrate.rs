@@ -13,10 +13,11 @@
 
 use nmm3d_geom::{Mat3, Vec3};
 
+use super::state::StepperState;
 use super::stepper::Stepper;
 use super::vectors::{equation_vector, gather, scatter_into, solver_error};
 use crate::error::Result;
-use crate::state::State;
+use crate::state::Motion;
 use crate::system::System;
 
 impl Stepper {
@@ -31,7 +32,7 @@ impl Stepper {
     pub(super) fn equilibrate(
         &mut self,
         sys: &System,
-        state: &State,
+        (state, run): (&Motion, &mut StepperState),
         r0: &[Vec3],
         d: &mut [Vec3],
     ) -> Result<Option<Vec<Vec3>>> {
@@ -84,7 +85,7 @@ impl Stepper {
             last = size;
             d.iter_mut().zip(&delta).for_each(|(d, x)| *d += x);
             applied = m;
-            self.equilibrium_iterations += 1;
+            run.equilibrium_iterations += 1;
         }
         unreachable!("the loop returns at its last iteration")
     }
@@ -99,7 +100,7 @@ fn largest(v: &[Vec3]) -> f64 {
 /// d_c ≈ t + ω × r_c over its covers, weighted by their lumped masses `mass`, r_c from their
 /// centre of mass at `state`) from the linear ω × r_c into the exact (R(ω) − I) r_c. About the
 /// centre of mass the correction carries no momentum.
-fn exact_rotations(sys: &System, state: &State, mass: &[f64], d: &[Vec3]) -> Vec<Vec3> {
+fn exact_rotations(sys: &System, state: &Motion, mass: &[f64], d: &[Vec3]) -> Vec<Vec3> {
     let mut by_block: Vec<Vec<usize>> = vec![Vec::new(); sys.geometry.blocks.len()];
     for c in (0..d.len()).filter(|&c| sys.dofs.moves(c) && mass[c] > 0.0) {
         by_block[sys.covers.covers[c].block].push(c);

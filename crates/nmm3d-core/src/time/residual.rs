@@ -6,7 +6,7 @@ use rayon::prelude::*;
 
 use super::corotation;
 use super::stepper::Stepper;
-use crate::state::State;
+use crate::state::Motion;
 use crate::system::System;
 
 /// Elements whose local blocks are computed together (in parallel) before they are scattered.
@@ -15,7 +15,7 @@ const ELEMENT_CHUNK: usize = 2048;
 impl Stepper {
     /// Tangent into `self.tangent`, unbalanced force per cover returned, the loads into
     /// `self.loads` (the water pressure at the rotations of the last step); updates rotations.
-    pub fn assemble(&mut self, sys: &System, state: &mut State) -> Vec<Vec3> {
+    pub fn assemble(&mut self, sys: &System, state: &mut Motion) -> Vec<Vec3> {
         self.tangent.iter_mut().for_each(|v| *v = 0.0);
         let mut residual = sys.external.clone();
         super::water::add_water(sys, state, &mut residual);
@@ -28,7 +28,7 @@ impl Stepper {
 
     /// The unbalanced force at `state` under the loads of the step's start (`self.loads`),
     /// without a tangent: where a trial's end stands (see `super::equilibrate`).
-    pub(super) fn residual_at(&self, sys: &System, state: &State) -> Vec<Vec3> {
+    pub(super) fn residual_at(&self, sys: &System, state: &Motion) -> Vec<Vec3> {
         let mut residual = self.loads.clone();
         subtract_inner_forces(sys, state, &mut residual, None);
         residual
@@ -40,7 +40,7 @@ impl Stepper {
 /// rotations returned.
 fn subtract_inner_forces(
     sys: &System,
-    state: &State,
+    state: &Motion,
     residual: &mut [Vec3],
     mut tangent: Option<&mut Vec<f64>>,
 ) -> Vec<(usize, Mat3)> {
@@ -81,7 +81,7 @@ fn subtract_inner_forces(
 }
 
 /// The penalty constraints' forces into `residual`, their stiffness into `tangent` if given.
-fn add_penalties(sys: &System, state: &State, residual: &mut [Vec3], tangent: Option<&mut Vec<f64>>) {
+fn add_penalties(sys: &System, state: &Motion, residual: &mut [Vec3], tangent: Option<&mut Vec<f64>>) {
     let k = sys.penalty;
     let mut tangent = tangent;
     for p in &sys.constraints {

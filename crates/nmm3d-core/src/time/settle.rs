@@ -3,9 +3,9 @@
 
 use nmm3d_geom::Vec3;
 
+use super::state::State;
 use super::stepper::Stepper;
 use crate::error::Result;
-use crate::state::State;
 use crate::system::System;
 
 impl Stepper {
@@ -19,30 +19,28 @@ impl Stepper {
     /// moves too far, or 50 iterations do not converge — it goes on as before, by implicit steps whose velocity is reset each
     /// step: the mass term regularises, at the cost of many steps for soft, rocking modes.
     pub fn settle(&mut self, sys: &System, state: &mut State) -> Result<(u64, f64)> {
-        let (v, a, dt) = (state.v.clone(), state.a.clone(), state.dt);
-        state.v.iter_mut().chain(state.a.iter_mut()).for_each(|x| *x = Vec3::zeros());
-        self.lock(true);
+        let m = &mut state.motion;
+        let (v, a, dt) = (m.v.clone(), m.a.clone(), m.dt);
+        m.v.iter_mut().chain(m.a.iter_mut()).for_each(|x| *x = Vec3::zeros());
+        lock(state, true);
         let analysis = &sys.scenario.analysis;
         let (mut steps, mut unbalanced) = (0, f64::INFINITY);
-        self.inertia = false;
+        state.stepper.inertia = false;
         while steps < analysis.max_steps {
             // A static iteration that fails is undone before the damped steps take over.
-            let before = (!self.inertia).then(|| (state.clone(), self.contacts.as_ref().map(|c| c.records.clone())));
+            let before = (!state.stepper.inertia).then(|| state.clone());
             let r = match (self.step(sys, state, f64::INFINITY), before) {
                 (Ok(r), None) => r,
                 (Ok(r), Some(_)) if r.cuts == 0 && steps < analysis.max_static_iterations => r,
-                (Ok(_) | Err(_), Some((saved, records))) => {
+                (Ok(_) | Err(_), Some(saved)) => {
                     // Not statically solvable as it stands: regularise with the mass term.
                     *state = saved;
-                    if let (Some(c), Some(records)) = (self.contacts.as_mut(), records) {
-                        c.records = records;
-                    }
-                    self.inertia = true;
-                    state.dt = dt;
+                    state.stepper.inertia = true;
+                    state.motion.dt = dt;
                     continue;
                 }
                 (Err(e), None) => {
-                    self.lock(false);
+                    lock(state, false);
                     return Err(e);
                 }
             };
@@ -52,19 +50,21 @@ impl Stepper {
                 break;
             }
         }
-        self.inertia = true;
-        self.lock(false);
-        if let Some(c) = self.contacts.as_mut() {
+        state.stepper.inertia = true;
+        lock(state, false);
+        if let Some(c) = state.contact.as_mut() {
             c.release();
         }
-        (state.v, state.a, state.dt, state.time, state.step) = (v, a, dt, 0.0, 0);
+        let m = &mut state.motion;
+        (m.v, m.a, m.dt, m.time, m.step) = (v, a, dt, 0.0, 0);
         Ok((steps, unbalanced))
     }
+}
 
-    fn lock(&mut self, locked: bool) {
-        self.locked = locked;
-        if let Some(c) = self.contacts.as_mut() {
-            c.locked = locked;
-        }
+/// Lock or unlock the contacts: locked, closed points stick whatever the force.
+fn lock(state: &mut State, locked: bool) {
+    state.stepper.locked = locked;
+    if let Some(c) = state.contact.as_mut() {
+        c.locked = locked;
     }
 }

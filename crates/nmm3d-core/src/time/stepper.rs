@@ -16,13 +16,14 @@ use super::cut::{self, Cut, CutReason};
 use super::energy::Energy;
 use super::integrator::{Newmark, StepCoefficients};
 use super::setup::{contact_params, solver};
+use super::state::{State, StepperState};
 use super::step_control::{self, Verdict};
 use super::vectors::{gather, kinetic_energy, lumped_mass, mass_times, scale, scatter_into, solver_error};
-use crate::contact::{overlap_problems, ContactSet};
+use crate::contact::{overlap_problems, ContactHistory, ContactSurfaces};
 use crate::error::{Error, Result};
 use crate::scenario::AnalysisKind;
 use crate::solver::{ReusingSolver, SolveCounts};
-use crate::state::State;
+use crate::state::Motion;
 use crate::system::System;
 
 /// Diagnostics of one accepted step.
@@ -66,84 +67,68 @@ pub struct PhaseTimes {
     pub pattern: f64,
 }
 
-/// Orchestrates steps; owns the linear solver and work buffers.
+/// Orchestrates steps: the model's contact surfaces, the linear solver with its factor and the
+/// matrix pattern (caches), and work buffers. What a run changes is its [`State`].
 pub struct Stepper {
     pub(super) solver: ReusingSolver,
     /// The system matrix's pattern (grown by contacts).
     pub(super) pattern: ContactPattern,
-    pub(super) contacts: Option<ContactSet>,
+    /// The blocks' contact surfaces (`None` without contact or with one block).
+    pub(super) contacts: Option<ContactSurfaces>,
     pub(super) newmark: Newmark,
     pub(super) tangent: Vec<f64>,
     pub(super) values: Vec<f64>,
-    pub(super) force_scale: f64,
-    /// Contacts locked (initial equilibrium): closed points stick whatever the force.
-    pub(super) locked: bool,
-    /// Steps carry the inertia term; without it a step is a Newton iteration of the static
-    /// equilibrium (the initial equilibrium's first try).
-    pub(super) inertia: bool,
-    /// Step cuts because a contact overlapped beyond the allowed depth.
-    pub penetration_cuts: u64,
-    /// Times the contact penalties were raised because a contact overlapped too deep.
-    pub penalty_raises: u32,
-    /// Equilibrium iterations of dynamic steps (see [`super::equilibrate`]).
-    pub equilibrium_iterations: u64,
     /// Time per phase so far.
     pub times: PhaseTimes,
-    /// Energy accounts of the run so far (dynamic runs, from the first step on).
-    pub energy: Option<Energy>,
     /// Rejected trials not yet taken by the recorder.
     pub cuts: Vec<Cut>,
-    /// Largest displacement summed over the steps since the last contact detection [m].
-    pub(super) undetected: f64,
     /// The loads of the step being taken: dead loads and water pressure at its start [N].
     pub(super) loads: Vec<Vec3>,
-    /// Contact forces on the covers at the end of the last accepted step (what its
-    /// acceleration carries; empty before the first) [N].
-    pub(super) contact_end: Vec<Vec3>,
+    /// Block pairs of the points that changed state in the last open–close iteration.
+    pub(super) last_changes: Vec<(usize, usize)>,
     /// Each cover's lumped (row-summed) mass [kg]: the weights of the blocks' rigid fits.
     pub(super) lumped_mass: Vec<f64>,
 }
 
 impl Stepper {
-    /// A stepper with faer's sparse Cholesky. The first contact detection runs here: blocks
-    /// overlapping deeper than the overlap tolerance are invalid input (`label` names it).
-    pub fn new(sys: &System, state: &State, label: &str) -> Result<Self> {
-        let nnz = sys.assembler.pattern.nnz();
-        let mut contacts = if sys.scenario.contact.enabled { ContactSet::new(sys, contact_params(sys)) } else { None };
-        if let Some(c) = contacts.as_mut() {
-            c.detect(sys, state, true);
-            let problems = overlap_problems(sys, c, sys.scenario.contact.overlap_tolerance * sys.covers.mesh.size);
+    /// A stepper with faer's sparse Cholesky. The first contact detection runs here, into
+    /// `state`'s contact history: blocks overlapping deeper than the overlap tolerance are
+    /// invalid input (`label` names it).
+    pub fn new(sys: &System, state: &mut State, label: &str) -> Result<Self> {
+        let mut stepper = Self::on_model(sys);
+        state.contact = stepper.contacts.as_ref().map(|_| ContactHistory::new(contact_params(sys)));
+        if let (Some(c), Some(h)) = (stepper.contacts.as_mut(), state.contact.as_mut()) {
+            c.detect(sys, &state.motion, h, true);
+            let problems = overlap_problems(sys, h, sys.scenario.contact.overlap_tolerance * sys.covers.mesh.size);
             if !problems.is_empty() {
                 return Err(Error::Scenario { file: label.to_string(), problems });
             }
         }
-        let mut stepper = Self {
-            solver: solver(sys),
-            pattern: ContactPattern::default(),
-            contacts,
-            newmark: Newmark::from_analysis(&sys.scenario.analysis),
-            tangent: vec![0.0; nnz],
-            values: vec![0.0; nnz],
-            force_scale: 0.0,
-            locked: false,
-            inertia: true,
-            penetration_cuts: 0,
-            penalty_raises: 0,
-            equilibrium_iterations: 0,
-            times: PhaseTimes::default(),
-            energy: None,
-            cuts: Vec::new(),
-            undetected: 0.0,
-            loads: Vec::new(),
-            contact_end: Vec::new(),
-            lumped_mass: lumped_mass(sys),
-        };
-        stepper.ensure_contact_pattern(sys, 0);
+        stepper.ensure_contact_pattern(sys, state.contact.as_ref(), 0);
         Ok(stepper)
     }
 
-    /// The contact set (`None` without contact).
-    pub fn contacts(&self) -> Option<&ContactSet> {
+    /// A stepper on the model `sys`: its contact surfaces, solver and buffers (no pattern
+    /// grown, no factor yet).
+    pub(super) fn on_model(sys: &System) -> Self {
+        let nnz = sys.assembler.pattern.nnz();
+        Self {
+            solver: solver(sys),
+            pattern: ContactPattern::default(),
+            contacts: if sys.scenario.contact.enabled { ContactSurfaces::new(sys) } else { None },
+            newmark: Newmark::from_analysis(&sys.scenario.analysis),
+            tangent: vec![0.0; nnz],
+            values: vec![0.0; nnz],
+            times: PhaseTimes::default(),
+            cuts: Vec::new(),
+            loads: Vec::new(),
+            last_changes: Vec::new(),
+            lumped_mass: lumped_mass(sys),
+        }
+    }
+
+    /// The contact surfaces (`None` without contact).
+    pub fn contacts(&self) -> Option<&ContactSurfaces> {
         self.contacts.as_ref()
     }
 
@@ -167,12 +152,14 @@ impl Stepper {
         self.solver.timings()
     }
 
-    /// Initial acceleration M a₀ = F − F_int(x₀), needed when β ≠ ½.
-    pub fn initialize(&mut self, sys: &System, state: &mut State) -> Result<()> {
+    /// The force scale of the unbalanced force ratio, and the initial acceleration
+    /// M a₀ = F − F_int(x₀), needed when β ≠ ½.
+    pub fn initialize(&mut self, sys: &System, whole: &mut State) -> Result<()> {
+        let (state, run) = (&mut whole.motion, &mut whole.stepper);
         let mut residual = self.assemble(sys, state);
-        let base = self.shaking(sys).then(|| sys.base_force(sys.scenario.seismic.acceleration_after(state.time)));
+        let base = shaking(sys, run).then(|| sys.base_force(sys.scenario.seismic.acceleration_after(state.time)));
         add_to(&mut residual, base.as_deref());
-        self.force_scale = scale(sys, &residual).max(scale(sys, &self.loads));
+        run.force_scale = scale(sys, &residual).max(scale(sys, &self.loads));
         if sys.scenario.analysis.kind == AnalysisKind::Dynamic && self.newmark.uses_acceleration() && sys.n_eq() > 0 {
             self.pattern.combine(sys, (0.0, &self.tangent), (1.0, &sys.mass_values), &mut self.values);
             let mut rhs = gather(sys, &residual);
@@ -184,88 +171,74 @@ impl Stepper {
         Ok(())
     }
 
-    /// Whether the base shakes now (not while the initial equilibrium settles: the shaking
-    /// starts after it).
-    fn shaking(&self, sys: &System) -> bool {
-        !self.locked && sys.scenario.seismic.moves()
-    }
-
-    /// Unbalanced force ratio at the current state (static equilibrium measure).
-    pub fn unbalanced_ratio(&self, sys: &System, residual: &[Vec3]) -> f64 {
-        if self.force_scale > 0.0 {
-            scale(sys, residual) / self.force_scale
-        } else {
-            0.0
-        }
-    }
-
     /// One accepted step (possibly after cuts). `dt_cap` bounds the step (output times, end).
-    pub fn step(&mut self, sys: &System, state: &mut State, dt_cap: f64) -> Result<StepReport> {
+    pub fn step(&mut self, sys: &System, whole: &mut State, dt_cap: f64) -> Result<StepReport> {
+        let State { motion: state, contact, stepper: run } = whole;
         // Contacts first: a new contact may change the pattern the tangent is assembled into.
-        if let Some(c) = self.contacts.as_mut() {
+        if let (Some(c), Some(h)) = (self.contacts.as_mut(), contact.as_mut()) {
             // Since the last detection no point has moved by the contact tolerance, so no pair
             // apart by more than the detection margin (twice the tolerance) can touch: the same
             // points are kept (`refresh`). Detecting again would only make points at the edge of
             // a face come and go with round-off, each arrival inheriting its neighbour's springs
             // — energy from nowhere, and a static iteration that never settles.
-            if self.undetected < c.params.tolerance {
-                c.refresh(sys, state);
+            if run.undetected < h.params.tolerance {
+                h.refresh(sys, state);
             } else {
-                c.detect(sys, state, false);
-                self.undetected = 0.0;
+                c.detect(sys, state, h, false);
+                run.undetected = 0.0;
             }
         }
-        self.ensure_contact_pattern(sys, state.step);
+        self.ensure_contact_pattern(sys, contact.as_ref(), state.step);
         let t = Instant::now();
         let residual = self.assemble(sys, state);
         // The unbalanced force at the start, contacts included: M a₀ of a dynamic step.
         let mut start_force = residual.clone();
         let seismic = &sys.scenario.seismic;
-        let base_start = self.shaking(sys).then(|| sys.base_force(seismic.acceleration_after(state.time)));
+        let base_start = shaking(sys, run).then(|| sys.base_force(seismic.acceleration_after(state.time)));
         add_to(&mut start_force, base_start.as_deref());
         let mut start_contact = vec![Vec3::zeros(); residual.len()];
-        if let Some(c) = self.contacts.as_ref() {
-            c.add_start_forces(sys, &mut start_contact);
+        if let Some(h) = contact.as_ref() {
+            h.add_start_forces(sys, &mut start_contact);
         }
         add_to(&mut start_force, Some(&start_contact));
         // The contact forces the start acceleration carries: the last step's end forces, except
         // at the first step (see `m_a0` below).
-        let contact_start = if self.energy.is_some() && self.contact_end.len() == residual.len() {
-            std::mem::take(&mut self.contact_end)
+        let contact_start = if run.energy.is_some() && run.contact_end.len() == residual.len() {
+            std::mem::take(&mut run.contact_end)
         } else {
             start_contact
         };
-        let unbalanced = self.unbalanced_ratio(sys, &start_force);
+        let unbalanced = unbalanced_ratio(sys, run, &start_force);
         let (mv, ma) = (mass_times(sys, &state.v), mass_times(sys, &state.a));
-        let mut start_records = self.contacts.as_ref().map(|c| c.records.clone());
+        let mut start_records = contact.as_ref().map(|h| h.records.clone());
         // The springs' energy at the start: the first step's is part of the initial energy
         // (springs loaded by the initial equilibrium or by overlapping input).
-        let springs0 = self.contacts.as_ref().map_or(0.0, ContactSet::spring_energy);
+        let springs0 = contact.as_ref().map_or(0.0, ContactHistory::spring_energy);
         self.times.assembly += t.elapsed().as_secs_f64();
         let analysis = &sys.scenario.analysis;
         let mut dt = state.dt.min(dt_cap);
-        if self.shaking(sys) {
+        if shaking(sys, run) {
             // No step straddles a jump of the base acceleration; the one that starts at a jump
             // starts from the acceleration after it.
             dt = seismic.next_jump(state.time).map_or(dt, |b| dt.min(b - state.time));
             jump_acceleration(sys, state);
         }
         let (mut cuts, mut trials, mut arrivals) = (0, 0, 0);
-        let dynamic = self.inertia && !self.locked && analysis.kind != AnalysisKind::Static;
+        let dynamic = run.inertia && !run.locked && analysis.kind != AnalysisKind::Static;
         loop {
-            let k = if self.inertia {
+            let k = if run.inertia {
                 self.newmark.coefficients(dt)
             } else {
                 StepCoefficients { c0: 0.0, c1: 0.0, c2: 0.0 }
             };
             // Every trial starts from the step's start states (the first one has them already).
             trials += 1;
-            if let (Some(c), Some(saved), true) = (self.contacts.as_mut(), start_records.as_ref(), trials > 1) {
-                c.records = saved.clone();
+            if let (Some(h), Some(saved), true) = (contact.as_mut(), start_records.as_ref(), trials > 1) {
+                h.records = saved.clone();
             }
             // The loads at the end of the step (implicit): a moving base's force just before
             // t + Δt (a pulse ending there still acts over the step).
-            let base_end = self.shaking(sys).then(|| sys.base_force(seismic.acceleration_before(state.time + dt)));
+            let base_end = shaking(sys, run).then(|| sys.base_force(seismic.acceleration_before(state.time + dt)));
             let moved;
             let trial_residual = match &base_end {
                 Some(f) => {
@@ -275,15 +248,15 @@ impl Stepper {
                 None => &residual,
             };
             let trial = Trial { residual: trial_residual, mv: &mv, ma: &ma, k };
-            let (mut d, iterations, settled) = self.open_close(sys, state, &trial)?;
+            let (mut d, iterations, settled) = self.open_close(sys, (state, contact.as_mut()), &trial)?;
             let dmax = d.iter().map(|x| x.norm()).fold(0.0, f64::max);
             // Lagged verification, where the blocks may have moved into a contact unseen: not
             // while nothing has moved by the contact tolerance since the last detection.
-            let moved = self.contacts.as_ref().is_some_and(|c| self.undetected + dmax >= c.params.tolerance);
+            let moved = contact.as_ref().is_some_and(|h| run.undetected + dmax >= h.params.tolerance);
             if settled
                 && moved
                 && arrivals < sys.scenario.contact.arrival_rounds
-                && self.arrivals(sys, state, &d, start_records.as_mut())
+                && self.arrivals(sys, (state, contact.as_mut()), &d, start_records.as_mut())
             {
                 arrivals += 1;
                 continue;
@@ -292,16 +265,16 @@ impl Stepper {
             // Contacts overlapping beyond the allowed depth: the penalty is too soft for the
             // loads — raise it (×10, at most three times in a run) and repeat the step; after
             // that, cut the step like an unsettled one (an impact in smaller steps overlaps less).
-            let too_deep = self.contacts.as_ref().is_some_and(|c| {
-                c.overlap_growing_beyond(sys.scenario.contact.max_penetration_ratio * sys.covers.mesh.size)
+            let too_deep = contact.as_ref().is_some_and(|h| {
+                h.overlap_growing_beyond(sys.scenario.contact.max_penetration_ratio * sys.covers.mesh.size)
             });
             let raise = sys.scenario.contact.penalty_raise;
-            if too_deep && settled && self.penalty_raises < sys.scenario.contact.max_penalty_raises {
-                self.penalty_raises += 1;
-                let why = self.why(sys, state, dt, CutReason::PenaltyRaised, (&d, ratio));
+            if too_deep && settled && run.penalty_raises < sys.scenario.contact.max_penalty_raises {
+                run.penalty_raises += 1;
+                let why = self.why(sys, (state, contact.as_ref()), dt, CutReason::PenaltyRaised, (&d, ratio));
                 self.cuts.push(why);
-                if let (Some(c), Some(saved)) = (self.contacts.as_mut(), start_records.as_mut()) {
-                    c.stiffen(raise);
+                if let (Some(h), Some(saved)) = (contact.as_mut(), start_records.as_mut()) {
+                    h.stiffen(raise);
                     saved.iter_mut().for_each(|r| r.stiffen(raise));
                 }
                 continue;
@@ -312,10 +285,10 @@ impl Stepper {
                 step_control::judge_unsettled(analysis, dt)
             };
             if too_deep && settled && matches!(verdict, Verdict::Retry(_)) {
-                self.penetration_cuts += 1;
+                run.penetration_cuts += 1;
             }
             if !matches!(verdict, Verdict::Accept) {
-                let why = self.why(sys, state, dt, CutReason::of(settled, too_deep), (&d, ratio));
+                let why = self.why(sys, (state, contact.as_ref()), dt, CutReason::of(settled, too_deep), (&d, ratio));
                 self.cuts.push(why);
             }
             match verdict {
@@ -323,30 +296,30 @@ impl Stepper {
                     let end_residual = match dynamic && analysis.step_equilibrium_iterations > 0 {
                         true => {
                             let clock = Instant::now();
-                            let r1 = self.equilibrate(sys, state, &residual, &mut d)?;
+                            let r1 = self.equilibrate(sys, (state, run), &residual, &mut d)?;
                             self.times.equilibrium += clock.elapsed().as_secs_f64();
                             r1
                         }
                         false => None,
                     };
-                    self.undetected += d.iter().map(|x| x.norm()).fold(0.0, f64::max);
+                    run.undetected += d.iter().map(|x| x.norm()).fold(0.0, f64::max);
                     let kinetic0 = kinetic_energy(sys, &state.v, &mv);
-                    if self.shaking(sys) {
+                    if shaking(sys, run) {
                         advance_base(sys, state, dt);
                     }
-                    self.accept(sys, state, &d, dt);
+                    self.accept(sys, (state, run), &d, dt);
                     self.update_bolts(sys, state);
-                    let (contacts, max_penetration, friction, springs) = match self.contacts.as_mut() {
-                        Some(c) => {
-                            let friction = c.accept();
-                            c.travel.add(sys, &d);
-                            (c.records.len(), c.max_penetration(), friction, c.spring_energy())
+                    let (contacts, max_penetration, friction, springs) = match contact.as_mut() {
+                        Some(h) => {
+                            let friction = h.accept();
+                            h.travel.add(sys, &d);
+                            (h.records.len(), h.max_penetration(), friction, h.spring_energy())
                         }
                         None => (0, 0.0, 0.0, 0.0),
                     };
                     let mut contact_end = vec![Vec3::zeros(); d.len()];
-                    if let Some(c) = self.contacts.as_ref() {
-                        c.add_end_forces(sys, &mut contact_end);
+                    if let Some(h) = contact.as_ref() {
+                        h.add_end_forces(sys, &mut contact_end);
                     }
                     // The contacts' work on the blocks by the scheme's rule (the mean of the
                     // forces its start and end accelerations carry).
@@ -356,14 +329,14 @@ impl Stepper {
                         .zip(&contact_end)
                         .map(|((d, f0), f1)| 0.5 * d.dot(&(f0 + f1)))
                         .sum();
-                    self.contact_end = contact_end;
+                    run.contact_end = contact_end;
                     state.dt = step_control::next_dt(analysis, dt, ratio);
                     // M a₀: the scheme's acceleration at the start (the last step's end), except at
                     // the first step, where the unbalanced force stands for it.
-                    let m_a0 = if self.energy.is_some() { &ma } else { &start_force };
+                    let m_a0 = if run.energy.is_some() { &ma } else { &start_force };
                     let energy = self.account(
                         sys,
-                        state,
+                        (state, run),
                         &Increment {
                             d: &d,
                             residual: &residual,
@@ -401,17 +374,17 @@ impl Stepper {
 
     /// Add an accepted step to the energy accounts (dynamic runs outside the initial
     /// equilibrium) and return them.
-    fn account(&mut self, sys: &System, state: &State, s: &Increment) -> Energy {
-        if self.locked || sys.scenario.analysis.kind == AnalysisKind::Static {
+    fn account(&self, sys: &System, (state, run): (&Motion, &mut StepperState), s: &Increment) -> Energy {
+        if run.locked || sys.scenario.analysis.kind == AnalysisKind::Static {
             return Energy::default();
         }
-        account::add_step(sys, state, s, (&self.loads, &self.tangent), &mut self.energy)
+        account::add_step(sys, state, s, (&self.loads, &self.tangent), &mut run.energy)
     }
 
-    pub(super) fn accept(&self, sys: &System, state: &mut State, d: &[Vec3], dt: f64) {
+    pub(super) fn accept(&self, sys: &System, (state, run): (&mut Motion, &StepperState), d: &[Vec3], dt: f64) {
         let k = self.newmark.coefficients(dt);
         let g = self.newmark.gamma;
-        let is_static = self.locked || sys.scenario.analysis.kind == AnalysisKind::Static;
+        let is_static = run.locked || sys.scenario.analysis.kind == AnalysisKind::Static;
         for c in 0..d.len() {
             if !sys.dofs.moves(c) {
                 continue;
@@ -434,6 +407,21 @@ pub(super) struct Trial<'a> {
     pub(super) mv: &'a [Vec3],
     pub(super) ma: &'a [Vec3],
     pub(super) k: StepCoefficients,
+}
+
+/// Whether the base shakes now (not while the initial equilibrium settles: the shaking starts
+/// after it).
+fn shaking(sys: &System, run: &StepperState) -> bool {
+    !run.locked && sys.scenario.seismic.moves()
+}
+
+/// Unbalanced force ratio of `residual` (static equilibrium measure).
+pub fn unbalanced_ratio(sys: &System, run: &StepperState, residual: &[Vec3]) -> f64 {
+    if run.force_scale > 0.0 {
+        scale(sys, residual) / run.force_scale
+    } else {
+        0.0
+    }
 }
 
 /// `into += add`, when there is something to add.

@@ -9,24 +9,30 @@ use nmm3d_geom::Vec3;
 use super::cut::{self, Cut, CutReason};
 use super::stepper::{Stepper, Trial};
 use super::vectors::{gather, scatter_into, solver_error};
-use crate::contact::{ContactRecord, ContactSet};
+use crate::contact::{ContactHistory, ContactRecord};
 use crate::error::Result;
 use crate::solver::Solved;
-use crate::state::State;
+use crate::state::Motion;
 use crate::system::System;
 
 impl Stepper {
     /// Solve, update contact states, repeat until no contact changes state.
-    pub(super) fn open_close(&mut self, sys: &System, state: &State, t: &Trial) -> Result<(Vec<Vec3>, u32, bool)> {
+    pub(super) fn open_close(
+        &mut self,
+        sys: &System,
+        (state, mut contact): (&Motion, Option<&mut ContactHistory>),
+        t: &Trial,
+    ) -> Result<(Vec<Vec3>, u32, bool)> {
         let max = sys.scenario.analysis.max_open_close;
         for it in 1..=max {
             let (clock, pattern) = (Instant::now(), self.times.pattern);
             if it > 1 {
                 // A point that closed in the last solve may couple a pair the pattern lacks.
-                self.ensure_contact_pattern(sys, state.step);
+                self.ensure_contact_pattern(sys, contact.as_deref(), state.step);
             }
-            let d = self.solve_trial(sys, state, t)?;
-            let (changed, mismatch) = self.contacts.as_mut().map_or((0, 0.0), |c| c.update_states(sys, &d));
+            let d = self.solve_trial(sys, (state, contact.as_deref()), t)?;
+            let changes = &mut self.last_changes;
+            let (changed, mismatch) = contact.as_deref_mut().map_or((0, 0.0), |h| h.update_states(sys, &d, changes));
             if it > 1 {
                 self.times.open_close += clock.elapsed().as_secs_f64() - (self.times.pattern - pattern);
             }
@@ -46,25 +52,30 @@ impl Stepper {
 
     /// Make the sparsity pattern hold the couplings of every closed contact point (grown, with
     /// a new symbolic factorisation, when a pair of MEs closes that it lacks).
-    pub(super) fn ensure_contact_pattern(&mut self, sys: &System, step: u64) {
-        let Some(c) = self.contacts.as_ref() else { return };
+    pub(super) fn ensure_contact_pattern(&mut self, sys: &System, contact: Option<&ContactHistory>, step: u64) {
+        let Some(h) = contact else { return };
         let t = Instant::now();
-        if self.pattern.ensure(sys, &c.closed_pairs(), step) {
+        if self.pattern.ensure(sys, &h.closed_pairs(), step) {
             self.solver.new_pattern();
         }
         self.times.pattern += t.elapsed().as_secs_f64();
     }
 
-    pub(super) fn solve_trial(&mut self, sys: &System, state: &State, trial: &Trial) -> Result<Vec<Vec3>> {
+    pub(super) fn solve_trial(
+        &mut self,
+        sys: &System,
+        (state, contact): (&Motion, Option<&ContactHistory>),
+        trial: &Trial,
+    ) -> Result<Vec<Vec3>> {
         let Trial { residual, mv, ma, k } = *trial;
         let t = Instant::now();
         self.pattern.combine(sys, (1.0, &self.tangent), (k.c0, &sys.mass_values), &mut self.values);
         let mut contact_force = vec![Vec3::zeros(); residual.len()];
         // Only a matrix without contact springs is reused (see `solver::reuse`).
-        let nearby = !self.contacts.as_ref().is_some_and(ContactSet::any_closed);
-        if let Some(c) = self.contacts.as_ref() {
+        let nearby = !contact.is_some_and(ContactHistory::any_closed);
+        if let Some(h) = contact {
             let pattern = &self.pattern;
-            c.assemble(sys, &mut contact_force, pattern.pattern(sys), |pair| pattern.coupling(pair), &mut self.values);
+            h.assemble(sys, &mut contact_force, pattern.pattern(sys), |pair| pattern.coupling(pair), &mut self.values);
         }
         let rhs_cover: Vec<Vec3> =
             (0..residual.len()).map(|c| residual[c] + k.c1 * mv[c] + k.c2 * ma[c] + contact_force[c]).collect();
@@ -85,24 +96,24 @@ impl Stepper {
     }
 
     /// Whether contact points arrived during the trial that ends at `state` + `d` (see
-    /// [`ContactSet::arrivals`]): they join the step's start records and the pattern, and the
-    /// step is solved again.
+    /// [`crate::contact::ContactSurfaces::arrivals`]): they join the step's start records and
+    /// the pattern, and the step is solved again.
     pub(super) fn arrivals(
         &mut self,
         sys: &System,
-        state: &State,
+        (state, contact): (&Motion, Option<&mut ContactHistory>),
         d: &[Vec3],
         saved: Option<&mut Vec<ContactRecord>>,
     ) -> bool {
-        let (Some(c), Some(saved)) = (self.contacts.as_mut(), saved) else { return false };
+        let (Some(c), Some(h), Some(saved)) = (self.contacts.as_mut(), contact, saved) else { return false };
         let mut end = state.clone();
         end.u.iter_mut().zip(d).for_each(|(u, d)| *u += d);
-        let added = c.arrivals(sys, state, &end);
+        let added = c.arrivals(sys, (state, &end), h);
         if added.is_empty() {
             return false;
         }
         saved.extend(added);
-        self.ensure_contact_pattern(sys, state.step);
+        self.ensure_contact_pattern(sys, Some(h), state.step);
         true
     }
 
@@ -110,20 +121,17 @@ impl Stepper {
     pub(super) fn why(
         &self,
         sys: &System,
-        state: &State,
+        (state, contacts): (&Motion, Option<&ContactHistory>),
         dt: f64,
         reason: CutReason,
         (d, ratio): (&[Vec3], f64),
     ) -> Cut {
-        let contacts = self.contacts.as_ref();
         let (value, blocks) = match reason {
             CutReason::DisplacementRatio => {
                 let limit = sys.scenario.analysis.max_displacement_ratio * sys.half_size;
                 (ratio, cut::moved_too_far(sys, d, limit))
             }
-            CutReason::OpenCloseUnsettled => {
-                (contacts.map_or(0, |c| c.last_changes.len()) as f64, cut::unsettled(contacts))
-            }
+            CutReason::OpenCloseUnsettled => (self.last_changes.len() as f64, cut::unsettled(&self.last_changes)),
             CutReason::Overlap | CutReason::PenaltyRaised => {
                 let depth = sys.scenario.contact.max_penetration_ratio * sys.covers.mesh.size;
                 let (blocks, deepest) = cut::overlapping(contacts, depth);

@@ -11,11 +11,11 @@ use nmm3d_geom::Vec3;
 use rayon::prelude::*;
 
 use crate::element::loads::{hydrostatic_forces, weights_at};
-use crate::state::State;
+use crate::state::Motion;
 use crate::system::System;
 
 /// Add the water pressure's nodal forces at the current state to `loads`.
-pub(super) fn add_water(sys: &System, state: &State, loads: &mut [Vec3]) {
+pub(super) fn add_water(sys: &System, state: &Motion, loads: &mut [Vec3]) {
     let Some(w) = sys.water.as_ref() else { return };
     let forces: Vec<(usize, Vec<Vec3>)> = w
         .elements

@@ -42,21 +42,21 @@ pub fn final_value(out: &RunOutcome, key: &str) -> f64 {
     out.summary.final_values.get(key).copied().flatten().unwrap_or_else(|| panic!("no final value {key}"))
 }
 
-use nmm3d_core::state::State;
+use nmm3d_core::state::Motion;
 use nmm3d_core::system::System;
-use nmm3d_core::time::Stepper;
+use nmm3d_core::time::{State, Stepper};
 
-/// Step a static scenario to equilibrium and return the system and final state.
-pub fn solve_static(text: &str) -> (System, State) {
+/// Step a static scenario to equilibrium and return the system and final motion.
+pub fn solve_static(text: &str) -> (System, Motion) {
     let sys = System::build(scenario(text), "<test>").unwrap_or_else(|e| panic!("{e}"));
     let mut state = State::initial(&sys);
-    let mut stepper = Stepper::new(&sys, &state, "<test>").unwrap_or_else(|e| panic!("{e}"));
+    let mut stepper = Stepper::new(&sys, &mut state, "<test>").unwrap_or_else(|e| panic!("{e}"));
     stepper.initialize(&sys, &mut state).unwrap();
     let tol = sys.scenario.analysis.equilibrium_tolerance;
     for _ in 0..sys.scenario.analysis.max_steps {
         let r = stepper.step(&sys, &mut state, 1e30).unwrap_or_else(|e| panic!("{e}"));
-        if state.step > 1 && r.unbalanced <= tol {
-            return (sys, state);
+        if state.motion.step > 1 && r.unbalanced <= tol {
+            return (sys, state.motion);
         }
     }
     panic!("no equilibrium within max_steps");
