@@ -134,12 +134,18 @@ pub fn detect_prepared(a: &Prepared, b: &Prepared, params: &DetectParams) -> Opt
         seps.push(s);
     }
     let top = seps.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    // Ties go to the first axis within the support tolerance of the best, and face normals come
-    // first: two blocks meeting on a face must not be given an edge–edge plane through that face
-    // (an edge of A lying on a face of B gives an edge–edge axis within round-off, or within the
-    // slight misalignment of deformed pieces, of B's face normal).
+    // Ties go to the first face normal within the support tolerance of the best: two blocks
+    // meeting on a face must not be given an edge–edge plane through that face (an edge of A
+    // lying on a face of B gives an edge–edge axis within round-off, or within the slight
+    // misalignment of deformed pieces, of B's face normal). Without such a face the best axis
+    // itself: another edge pair within the tolerance can be two edges far apart (two long
+    // blocks of the thesis slope crossing at an edge: a corner 1.3 m from the other's edge was
+    // taken for a point, whose material point lay 11 cm inside the block — the pair then read
+    // as open while the blocks passed 7 cm into each other).
     let tie = (FACE_PREFERENCE * va.iter().chain(vb).map(|x| x.norm()).fold(1.0, f64::max)).max(support_tolerance);
-    let k = seps.iter().position(|&s| s >= top - tie).unwrap_or(0);
+    let faces = b.normals.len() + a.normals.len();
+    let best = (0..seps.len()).fold(0, |k, m| if seps[m] > seps[k] { m } else { k });
+    let k = seps[..faces.min(seps.len())].iter().position(|&s| s >= top - tie).unwrap_or(best);
     if axes.is_empty() || seps[k] > margin {
         return None;
     }
@@ -246,7 +252,7 @@ fn past_the_face(
     }
     // Where the gap can be least: the corners of that overlap, the piece's corners over the
     // face and its edges crossing the face's edges (its lower surface is convex, the face flat).
-    let mut at = overlap_2d(&hull(&part, &m), &outline, &m, eps);
+    let mut at = overlap_2d(&hull(&part, &m), &outline, &m, (eps, eps));
     at.extend(beyond.into_iter().filter(|p| inside(&outline, p, &m, eps)));
     for e in o.edges.iter().filter(|e| m.dot(&o.vertices[e.ends.0]).min(m.dot(&o.vertices[e.ends.1])) <= level) {
         let (p, q) = (flat(&o.vertices[e.ends.0]), flat(&o.vertices[e.ends.1]));
@@ -358,7 +364,7 @@ fn contact_points(
     let height_b = height_field(&sb, n);
     let scale = va.iter().chain(vb).map(|x| x.norm()).fold(1.0, f64::max);
     let eps = 1e-9 * scale;
-    let overlap = overlap_2d(&ha, &hb, n, eps);
+    let overlap = overlap_2d(&ha, &hb, n, (eps, tol));
     let near = |p: &Vec3, set: &[Vec3]| set.iter().any(|q| (q - p).norm() <= 1e-7 * scale);
     let area = if overlap.len() >= 3 { polygon::area_vector(&overlap).norm() } else { 0.0 };
     let points = overlap
@@ -708,6 +714,85 @@ mod tests {
         assert_eq!(c.points.len(), 2, "{:?}", c.points);
         let xs: Vec<f64> = c.points.iter().map(|p| p.on_a.x).collect();
         assert!((xs[0].min(xs[1]) + 0.1).abs() < 1e-9 && (xs[0].max(xs[1]) - 0.5).abs() < 1e-9, "{xs:?}");
+    }
+
+    /// How far `x` lies off the surface of `p` [m] (0 on a face, within its outline).
+    fn off_surface(p: &ConvexPolyhedron, x: &Vec3) -> f64 {
+        let out =
+            p.faces.iter().map(|f| f.area_vector().normalize().dot(&(x - f.vertices[0]))).fold(f64::MIN, f64::max);
+        out.abs()
+    }
+
+    #[test]
+    fn long_blocks_crossing_at_an_edge_meet_on_the_least_penetrating_edge_pair() {
+        // Two 4 m blocks of the thesis slope (case A with slivers merged, t = 2.701 s; pieces as
+        // detected, shifted by (16, 6, −8) m): A's edge crosses B's edge 0.67 mm deep. Another
+        // edge pair gives an axis 1.14 mm deep, within the support tolerance (1 mm) of the best;
+        // on it A's support is one corner 1.3 m from B's supporting edge. Taken for a point,
+        // its material point on B lay 11 cm inside B and the pair read as open while the blocks
+        // passed 7 cm into each other.
+        // As detected: the faces of deformed pieces are flat and convex only nearly (0.07 mm).
+        let piece = |x: &[[f64; 3]], faces: &[Vec<usize>]| ConvexPolyhedron {
+            faces: faces
+                .iter()
+                .map(|f| Face {
+                    vertices: f.iter().map(|&i| Vec3::new(x[i][0], x[i][1], x[i][2])).collect(),
+                    tag: FaceTag(0),
+                })
+                .collect(),
+        };
+        let a = piece(
+            &[
+                [4.542754, 1.207786, -1.431591],
+                [0.563929, 1.469752, -1.085520],
+                [0.654957, 1.468208, -0.340606],
+                [3.485905, 1.281815, -0.586828],
+                [4.628907, 1.206323, -0.726679],
+                [3.416076, 0.212850, -0.580511],
+                [4.560584, 0.160422, -0.720499],
+                [4.475756, 0.182155, -1.425531],
+                [0.491963, 0.368162, -1.079010],
+                [0.581591, 0.345197, -0.333968],
+            ],
+            &[
+                vec![0, 1, 2, 3, 4],
+                vec![4, 3, 5, 6],
+                vec![7, 8, 1, 0],
+                vec![5, 3, 2, 9],
+                vec![6, 5, 9, 8, 7],
+                vec![0, 4, 6, 7],
+                vec![2, 1, 8, 9],
+            ],
+        );
+        let b = piece(
+            &[
+                [-1.991517, 1.244792, 0.497305],
+                [1.918835, 1.123406, -0.336013],
+                [1.898195, 1.125670, -0.433204],
+                [-2.041173, 1.250240, 0.263515],
+                [-2.033112, 0.037276, 0.478002],
+                [1.879994, -0.004049, -0.354035],
+                [1.859451, 0.001056, -0.451181],
+                [-2.082532, 0.049557, 0.244321],
+            ],
+            &[
+                vec![0, 1, 2, 3],
+                vec![1, 0, 4, 5],
+                vec![6, 7, 3, 2],
+                vec![5, 4, 7, 6],
+                vec![2, 1, 5, 6],
+                vec![0, 3, 7, 4],
+            ],
+        );
+        let tol = 1e-3;
+        let c =
+            detect(&a, &b, &DetectParams { margin: 0.01, support_tolerance: tol, thin_distance: 10.0 * tol }).unwrap();
+        assert!((c.separation + 0.67e-3).abs() < 0.05e-3, "separation {}", c.separation);
+        assert!((c.normal - Vec3::new(-0.0858, 0.0189, -0.9961)).norm() < 2e-4, "normal {}", c.normal);
+        assert_eq!(count(&c, Mode::EdgeEdge), 1, "{:?}", c.points);
+        for q in &c.points {
+            assert!(off_surface(&a, &q.on_a) < tol && off_surface(&b, &q.on_b) < tol, "{q:?} is not on both pieces");
+        }
     }
 
     #[test]

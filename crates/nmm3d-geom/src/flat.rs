@@ -47,16 +47,32 @@ pub(crate) fn hull(points: &[Vec3], n: &Vec3) -> Vec<Vec3> {
     p
 }
 
-/// Overlap of two flat convex sets (polygon, segment or point), as its corner points.
-pub(crate) fn overlap_2d(a: &[Vec3], b: &[Vec3], n: &Vec3, eps: f64) -> Vec<Vec3> {
+/// Overlap of two flat convex sets (polygon, segment or point), as its corner points. A point
+/// meets a point or a segment only within `near` of it; a point against a polygon is kept
+/// as it is (a corner over a face: one past the face's edge is the caller's to judge).
+pub(crate) fn overlap_2d(a: &[Vec3], b: &[Vec3], n: &Vec3, (eps, near): (f64, f64)) -> Vec<Vec3> {
     match (a.len(), b.len()) {
         (0, _) | (_, 0) => Vec::new(),
+        (1, 1 | 2) => on_segment(a[0], b, near),
+        (2, 1) => on_segment(b[0], a, near),
         (1, _) => vec![a[0]],
         (_, 1) => vec![b[0]],
         (2, 2) => segment_overlap(a[0], a[1], b[0], b[1], n, eps),
         (2, _) => clip_segment(a[0], a[1], b, n, eps),
         (_, 2) => clip_segment(b[0], b[1], a, n, eps),
         _ => polygon::intersect_convex(a, b, n, eps),
+    }
+}
+
+/// `[p]` if flat point `p` lies within `near` of the segment (or point) `s`, else nothing.
+fn on_segment(p: Vec3, s: &[Vec3], near: f64) -> Vec<Vec3> {
+    let (q0, q1) = (s[0], s[s.len() - 1]);
+    let e = q1 - q0;
+    let t = if e.norm_squared() > 0.0 { ((p - q0).dot(&e) / e.norm_squared()).clamp(0.0, 1.0) } else { 0.0 };
+    if (q0 + t * e - p).norm() <= near {
+        vec![p]
+    } else {
+        Vec::new()
     }
 }
 
@@ -151,5 +167,26 @@ pub(crate) fn height_field(s: &[Vec3], n: &Vec3) -> impl Fn(&Vec3) -> f64 {
                 h0 + gu * (p - c).dot(&u) + gw * (p - c).dot(&w)
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_point_meets_a_point_or_a_segment_only_on_it() {
+        let (n, lim) = (Vec3::z(), (1e-12, 1e-3));
+        let segment = [Vec3::zeros(), Vec3::x()];
+        let on = Vec3::new(0.5, 0.5e-3, 0.0);
+        assert_eq!(overlap_2d(&[on], &segment, &n, lim), vec![on]);
+        assert_eq!(overlap_2d(&segment, &[on], &n, lim), vec![on]);
+        assert!(overlap_2d(&[Vec3::new(0.5, 1.3, 0.0)], &segment, &n, lim).is_empty(), "beside it");
+        assert!(overlap_2d(&segment, &[Vec3::new(1.01, 0.0, 0.0)], &n, lim).is_empty(), "beyond its end");
+        assert_eq!(overlap_2d(&[on], &[Vec3::new(0.5, 0.0, 0.0)], &n, lim), vec![on]);
+        assert!(overlap_2d(&[on], &[Vec3::x()], &n, lim).is_empty());
+        // A corner against a polygon is the caller's to judge (a corner past a face's edge).
+        let square = [Vec3::zeros(), Vec3::x(), Vec3::new(1.0, 1.0, 0.0), Vec3::y()];
+        assert_eq!(overlap_2d(&[Vec3::new(3.0, 0.0, 0.0)], &square, &n, lim).len(), 1);
     }
 }
