@@ -92,15 +92,10 @@ def spin(rep: Report) -> None:
 
 
 def vtu_stress(path: Path) -> np.ndarray:
-    """The cell array `stress` of an nmm3d frame (raw appended binary, UInt64 headers)."""
-    raw = path.read_bytes()
-    xml_end = raw.index(b"<AppendedData")
-    data = raw[raw.index(b"_", xml_end) + 1:]
-    header = raw[:xml_end].decode()
-    tag = header[header.index('Name="stress"'):]
-    offset = int(tag[tag.index('offset="') + 8:].split('"')[0])
-    n = int.from_bytes(data[offset:offset + 8], "little")
-    return np.frombuffer(data[offset + 8:offset + 8 + n], dtype="<f8").reshape(-1, 6)
+    """The cell array `stress` of an nmm3d frame, read as a user would (meshio)."""
+    import meshio
+
+    return np.concatenate([np.asarray(s).reshape(-1, 6) for s in meshio.read(path).cell_data["stress"]])
 
 
 def last_frame(r: nmm3d.Result) -> Path:
