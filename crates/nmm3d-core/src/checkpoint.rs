@@ -1,7 +1,8 @@
 //! `checkpoint.json`: everything a run needs to continue exactly where it stopped — the whole
 //! [`State`] (motion, contact points, counters, energy accounts), the stepper's caches (matrix
-//! pattern, factor) and what the recorder has gathered — with the scenario it belongs to. `nmm3d run --resume` reads it; a resumed run
-//! continues bit for bit as if it had never stopped (`tests/contract_checkpoint.rs`).
+//! pattern, factor) and what the recorder has gathered — with the scenario it belongs to.
+//! `nmm3d run --resume` reads it; a resumed run continues bit for bit as if it had never
+//! stopped (`tests/contract_checkpoint.rs`).
 //!
 //! JSON, so a checkpoint can be read and compared by people and tools; floats round-trip exactly
 //! (shortest representation out, `serde_json`'s `float_roundtrip` in).
@@ -108,9 +109,9 @@ pub fn read(out: &Path, scenario: &Scenario, label: &str) -> Result<Checkpoint> 
         }
         r => r.map_err(|e| Error::io(&path, e))?,
     };
-    let not_one =
+    let unreadable =
         |e: serde_json::Error| problem(format!("{} is not a checkpoint of this version: {e}", path.display()));
-    let mut value: Value = serde_json::from_slice(&text).map_err(not_one)?;
+    let mut value: Value = serde_json::from_slice(&text).map_err(unreadable)?;
     match value.get("version").and_then(Value::as_u64) {
         Some(1) => upgrade_v1(&mut value),
         Some(v) if v == u64::from(VERSION) => {}
@@ -122,7 +123,7 @@ pub fn read(out: &Path, scenario: &Scenario, label: &str) -> Result<Checkpoint> 
             )));
         }
     }
-    let c: Checkpoint = serde_json::from_value(value).map_err(not_one)?;
+    let c: Checkpoint = serde_json::from_value(value).map_err(unreadable)?;
     if let Some(key) = first_difference(&c.scenario, &comparable(scenario), String::new()) {
         return Err(problem(format!("the scenario differs from the checkpoint's at '{key}' (only analysis.duration, max_steps and checkpoint_interval may change)")));
     }

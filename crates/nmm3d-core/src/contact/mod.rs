@@ -26,9 +26,9 @@
 //! One concept per file: [`record`] (a point and its identity), [`transfer`] (what a new point
 //! inherits), [`rules`] (the open–close state rules), [`penalty`] (springs), [`friction`]
 //! (Coulomb friction), [`assemble`] (the contact terms of the system), [`detect`] (the detection
-//! driver), [`travel`] (which pairs need detecting again), [`history`] (all points of a run: the
-//! contact part of the run's state), [`set`] (the surfaces they are detected on, and what the
-//! stepper asks of the points), on the surfaces of [`surface`] and the material points of
+//! driver), [`travel`] (which pairs need detecting again), [`history`] (all points of a run, the
+//! contact part of the run's state, and what the stepper asks of them), [`set`] (the surfaces
+//! they are detected on), on the surfaces of [`surface`] and the material points of
 //! [`point`].
 
 pub mod assemble;

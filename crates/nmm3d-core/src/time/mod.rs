@@ -25,4 +25,4 @@ pub use cut::{Cut, CutReason};
 pub use energy::Energy;
 pub use integrator::Newmark;
 pub use state::{State, StepperState};
-pub use stepper::{unbalanced_ratio, StepReport, Stepper};
+pub use stepper::{StepReport, Stepper};

@@ -416,7 +416,7 @@ fn shaking(sys: &System, run: &StepperState) -> bool {
 }
 
 /// Unbalanced force ratio of `residual` (static equilibrium measure).
-pub fn unbalanced_ratio(sys: &System, run: &StepperState, residual: &[Vec3]) -> f64 {
+fn unbalanced_ratio(sys: &System, run: &StepperState, residual: &[Vec3]) -> f64 {
     if run.force_scale > 0.0 {
         scale(sys, residual) / run.force_scale
     } else {
