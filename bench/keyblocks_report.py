@@ -24,11 +24,12 @@ CASES = [
     ("tunnel_key_blocks.toml", [], "thesis tunnel geometry (joint positions not published)"),
     ("two_wedges.toml", [], "two tetrahedral wedges, 50/130 + 50/230 and 40/130 + 40/230"),
     ("tetrahedral_wedge.toml", [], "tetrahedral wedge 50/130 + 50/230"),
+    ("sliding_wedge.toml", [], "the 3DEC sliding wedge, 40/130 + 60/220 on 10 MPa/m joints"),
     ("incline.toml", [], "cube on a 30° plane"),
     ("roof_wedge.toml", ['keyblocks.free_sides=["-z"]'], "roof wedge, its base the free face"),
 ]
 #: (example, block id or None for the monitored block, study overrides)
-STUDIES = [("tetrahedral_wedge.toml", None, []), ("two_wedges.toml", 1, []), ("two_wedges.toml", 4, []),
+STUDIES = [("tetrahedral_wedge.toml", None, []), ("sliding_wedge.toml", None, []), ("two_wedges.toml", 1, []), ("two_wedges.toml", 4, []),
            ("goodman_tunnel.toml", 20, []), ("goodman_tunnel.toml", 10, [])]
 
 

@@ -28,6 +28,7 @@ CASES = {
     # runs end to end (the full runs take minutes).
     "tunnel_key_blocks.toml": ["analysis.duration=0.002"],
     "rock_slope.toml": ["analysis.duration=0.002"],
+    "rock_slope_bollards.toml": ["analysis.duration=0.002"],
     # Contact: short runs (the full ones are in docs/verification.md).
     "incline.toml": ["analysis.duration=0.3"],
     "roof_wedge.toml": ["analysis.duration=0.1"],
@@ -44,6 +45,7 @@ CASES = {
     "newmark_sliding_block.toml": [],
     "incline_water.toml": [],
     "bolted_block.toml": [],
+    "sliding_wedge.toml": [],
 }
 
 
@@ -99,7 +101,7 @@ def test_examples_with_a_closed_form_state_it():
     for name in ("free_fall.toml", "bar_patch.toml", "hanging_bar.toml", "cantilever.toml",
                  "cantilever_self_weight.toml", "incline.toml", "roof_wedge.toml", "drop_test.toml",
                  "block_on_joint.toml", "tetrahedral_wedge.toml", "newmark_sliding_block.toml",
-                 "incline_water.toml", "bolted_block.toml", "two_wedges.toml"):
+                 "incline_water.toml", "bolted_block.toml", "two_wedges.toml", "sliding_wedge.toml"):
         assert nmm3d.load(EXAMPLES / name).to_dict().get("expect"), name
 
 

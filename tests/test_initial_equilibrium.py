@@ -10,11 +10,14 @@ and the thesis tunnel with five faces held diverged after it.
 from __future__ import annotations
 
 import math
+import subprocess
+import sys
 
 import numpy as np
 import pytest
 
 import nmm3d
+from conftest import EXAMPLES
 from nmm3d.wedge import critical_friction_angle, wedge
 from test_wedge_nmm import scenario
 
@@ -81,3 +84,30 @@ def test_thesis_tunnel_with_five_faces_held_starts_from_rest(tmp_path):
     assert settled["unbalanced_force_ratio"] <= 1e-7, settled
     crown = abs(result.summary["final"]["crown.displacement.z"])
     assert crown < 1e-4, f"the crown moved {crown} m in 5 ms after equilibrium"
+
+
+def test_a_block_nothing_holds_is_named_and_the_settling_is_bounded(tmp_path):
+    # A cube in the air: the static iteration is singular, and the damped steps that take over
+    # sank it by ½ g Δt² a step until `max_steps` (200 000; hours on a rock mass). They stop
+    # once it has sunk by a cover cell, and the summary names it.
+    scenario = nmm3d.load(EXAMPLES / "free_fall.toml", ["analysis.initial_equilibrium=true",
+                                                         "analysis.output_interval=0.0"])
+    size = scenario.to_dict()["cover"]["size"]
+    result = run(scenario.to_dict(), tmp_path / "run")
+    ie = result.run_summary.initial_equilibrium
+    assert ie is not None and not ie.converged
+    assert ie.steps <= 5000
+    assert "block 0 of body 'cube'" in ie.warning
+    sunk = -result.history["cube.displacement.z"][0]
+    assert 0.0 < sunk <= 2.0 * size, "settled beyond a cover cell or not at all"
+    cli = subprocess.run([sys.executable, "-m", "nmm3d", "run", str(EXAMPLES / "free_fall.toml"), "--out",
+                          str(tmp_path / "cli"), "--quiet", "--set", "analysis.initial_equilibrium=true"],
+                         capture_output=True, text=True)
+    assert cli.returncode == 0 and "warning: initial equilibrium not reached" in cli.stderr, cli.stderr
+
+
+def test_a_max_settle_steps_bound_stops_the_damped_steps(tmp_path):
+    data = nmm3d.load(EXAMPLES / "free_fall.toml", ["analysis.initial_equilibrium=true",
+                                                    "analysis.max_settle_steps=7"]).to_dict()
+    ie = run(data, tmp_path).run_summary.initial_equilibrium
+    assert not ie.converged and ie.steps <= 7 + data["analysis"].get("max_static_iterations", 50)

@@ -88,6 +88,8 @@ def _run(args: argparse.Namespace) -> int:
     s = result.run_summary
     line = (f"{s.status}: {s.message} — {s.steps} steps, t = {s.time:.6g} s, "
             f"{s.manifold_elements} MEs, {s.dofs} DOFs, {s.wall_seconds:.2f} s wall")
+    for warning in _warnings(s):
+        print(f"nmm3d: warning: {warning}", file=sys.stderr)
     if result.completed:
         print(line)
         _print_answers(s)
@@ -96,6 +98,12 @@ def _run(args: argparse.Namespace) -> int:
     print(f"nmm3d: {what}: {s.message}", file=sys.stderr)
     print(f"outputs up to the last good step are in {args.out}", file=sys.stderr)
     return EXIT_FAILED
+
+
+def _warnings(s: RunSummary) -> list[str]:
+    """The summary's warnings: an initial equilibrium not reached, an energy balance off."""
+    found = [s.initial_equilibrium.warning if s.initial_equilibrium else None, s.energy.warning if s.energy else None]
+    return [w for w in found if w]
 
 
 MAX_FINAL_LINES = 12

@@ -86,6 +86,10 @@ class InitialEquilibrium:
 
     steps: int
     unbalanced_force_ratio: float
+    #: within ``analysis.equilibrium_tolerance`` (older summaries lack it: taken as true)
+    converged: bool = True
+    #: when not converged: the blocks nothing holds, still moving at its last step
+    warning: str | None = None
 
 
 @dataclass(frozen=True)

@@ -43,6 +43,9 @@ pub struct Checkpoint {
     pub record: RecordSnapshot,
     /// Steps and unbalanced force ratio of the initial equilibrium, when there was one.
     pub initial_equilibrium: Option<(u64, f64)>,
+    /// Blocks still moving when the initial equilibrium stopped unconverged.
+    #[serde(default)]
+    pub initial_moving: Vec<usize>,
 }
 
 /// What the recorder has gathered.

@@ -56,11 +56,21 @@ pub fn estimate(s: &Scenario) -> Option<Estimate> {
     let nodes: f64 = (0..3).map(|i| ext[i] / size + 3.0).product();
     let planes: Vec<f64> =
         s.joint_set.iter().map(|j| across(&bb, normal_from_dip(j.dip, j.dip_direction)) / j.spacing).collect();
-    // Parallel planes: n + 1 slabs per set; m planes in general position: at most
-    // 1 + m + C(m, 2) + C(m, 3) cells.
-    let m = s.joint_plane.len() as f64;
-    let general = 1.0 + m + m * (m - 1.0) / 2.0 + m * (m - 1.0) * (m - 2.0) / 6.0;
-    let blocks = s.body.len() as f64 * planes.iter().map(|n| n + 1.0).product::<f64>() * general;
+    // Per body, the sets and planes that cut it: parallel planes make n + 1 slabs per set; m
+    // planes in general position at most 1 + m + C(m, 2) + C(m, 3) cells.
+    let cuts = |bodies: &Option<Vec<String>>, name: &String| bodies.as_ref().is_none_or(|b| b.contains(name));
+    let blocks: f64 = s
+        .body
+        .iter()
+        .map(|b| {
+            let slabs: f64 = (s.joint_set.iter().zip(&planes))
+                .filter(|(j, _)| cuts(&j.bodies, &b.name))
+                .map(|(_, n)| n + 1.0)
+                .product();
+            let m = s.joint_plane.iter().filter(|j| cuts(&j.bodies, &b.name)).count() as f64;
+            slabs * (1.0 + m + m * (m - 1.0) / 2.0 + m * (m - 1.0) * (m - 2.0) / 6.0)
+        })
+        .sum();
     let segments: f64 = s
         .body
         .iter()
@@ -180,6 +190,23 @@ mod tests {
             std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/cantilever.toml")).unwrap();
         let e = estimate(&parse_toml(&text, "<test>", &[]).unwrap()).unwrap();
         assert!(e.bytes < 1e9, "{e:?}");
+    }
+
+    #[test]
+    fn joint_sets_cut_only_the_bodies_they_name() {
+        // Ten uncut posts beside the cube add ten blocks, not ten cubes' worth (the thesis
+        // slope with its bollards was refused: 64 GB).
+        let mut s = cube(1.0, 1.0);
+        let alone = estimate(&s).unwrap().blocks;
+        let post = s.body[0].clone();
+        for k in 0..10 {
+            s.body.push(crate::scenario::Body { name: format!("post{k}"), ..post.clone() });
+        }
+        assert!((estimate(&s).unwrap().blocks - 11.0 * alone).abs() < 1e-6, "without names every set cuts every body");
+        for j in &mut s.joint_set {
+            j.bodies = Some(vec!["cube".into()]);
+        }
+        assert!((estimate(&s).unwrap().blocks - (alone + 10.0)).abs() < 1e-6);
     }
 
     #[test]

@@ -186,6 +186,10 @@ pub struct InitialEquilibrium {
     pub steps: u64,
     /// Out-of-balance force ratio it reached.
     pub unbalanced_force_ratio: f64,
+    /// Whether that ratio is within `analysis.equilibrium_tolerance`.
+    pub converged: bool,
+    /// When it is not: which blocks nothing holds (those still moving at its last step).
+    pub warning: Option<String>,
 }
 
 /// The checkpoint a resumed run continued from.

@@ -17,6 +17,7 @@ use crate::output::summary::{RunSummary, Status};
 use crate::output::{atomic, run_dir, tables};
 use crate::scenario::{AnalysisKind, Scenario};
 use crate::system::System;
+use crate::time::settle::Settled;
 use crate::time::{State, Stepper};
 
 use super::recorder::Recorder;
@@ -83,7 +84,11 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
     let (mut state, mut stepper) = match resumed {
         Some(c) => {
             rec.restore(c.record);
-            saver.initial_equilibrium = c.initial_equilibrium;
+            saver.initial_equilibrium = c.initial_equilibrium.map(|(steps, unbalanced)| Settled {
+                steps,
+                unbalanced,
+                moving: c.initial_moving.clone(),
+            });
             (c.state, Stepper::resume(&sys, c.stepper)?)
         }
         None => {
@@ -116,7 +121,7 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
         status,
         message: &message,
         wall: t_start.elapsed().as_secs_f64(),
-        initial_equilibrium: saver.initial_equilibrium,
+        initial_equilibrium: saver.initial_equilibrium.clone(),
         resumed_at,
     };
     let summary = summary(&sys, &state, &stepper, &rec, &end);
@@ -171,7 +176,7 @@ struct Saver {
     scenario: Value,
     interval: f64,
     last: Instant,
-    initial_equilibrium: Option<(u64, f64)>,
+    initial_equilibrium: Option<Settled>,
 }
 
 impl Saver {
@@ -186,7 +191,8 @@ impl Saver {
             state: state.clone(),
             stepper: stepper.snapshot(),
             record: rec.snapshot(),
-            initial_equilibrium: self.initial_equilibrium,
+            initial_equilibrium: self.initial_equilibrium.as_ref().map(|s| (s.steps, s.unbalanced)),
+            initial_moving: self.initial_equilibrium.as_ref().map(|s| s.moving.clone()).unwrap_or_default(),
         };
         self.last = Instant::now();
         checkpoint::write(&self.out, &c)

@@ -7,6 +7,7 @@ use super::recorder::Recorder;
 use crate::output::summary::{EnergySummary, InitialEquilibrium, ResumedFrom, RunSummary, Status};
 use crate::output::{checks, cuts};
 use crate::system::System;
+use crate::time::settle::Settled;
 use crate::time::{State, Stepper};
 
 /// What the run adds to the summary beyond its own state: how it ended, how long it took, how
@@ -15,8 +16,8 @@ pub(super) struct Ending<'a> {
     pub status: Status,
     pub message: &'a str,
     pub wall: f64,
-    /// Static iterations and unbalanced ratio of the initial equilibrium, when one was solved.
-    pub initial_equilibrium: Option<(u64, f64)>,
+    /// How the initial equilibrium ended, when one was solved.
+    pub initial_equilibrium: Option<Settled>,
     /// Step and time of the checkpoint a resumed run continued from.
     pub resumed_at: Option<(u64, f64)>,
 }
@@ -56,9 +57,7 @@ pub(super) fn summary(sys: &System, whole: &State, stepper: &Stepper, rec: &Reco
         timings: timings(sys, stepper, rec),
         checks: checks::checks(&sys.scenario.expect, &last),
         final_values: last,
-        initial_equilibrium: end
-            .initial_equilibrium
-            .map(|(steps, unbalanced_force_ratio)| InitialEquilibrium { steps, unbalanced_force_ratio }),
+        initial_equilibrium: end.initial_equilibrium.as_ref().map(|s| initial_equilibrium(sys, s)),
         resumed_from: end.resumed_at.map(|(step, time)| ResumedFrom { step, time }),
     }
 }
@@ -89,6 +88,27 @@ fn timings(sys: &System, stepper: &Stepper, rec: &Recorder) -> BTreeMap<String, 
 /// The energy accounts at the end [J], the largest balance error over the run relative to the
 /// largest account of the run, and a warning when it exceeds [`ENERGY_ERROR_BOUND`]; `None`
 /// for runs without accounts (static).
+/// The initial equilibrium in the summary; unconverged, it names the blocks nothing holds.
+fn initial_equilibrium(sys: &System, s: &Settled) -> InitialEquilibrium {
+    let converged = s.unbalanced <= sys.scenario.analysis.equilibrium_tolerance;
+    let warning = (!converged).then(|| {
+        let names: Vec<String> = (s.moving.iter().take(10))
+            .map(|&b| format!("block {b} of body '{}'", sys.scenario.body[sys.geometry.blocks[b].body].name))
+            .collect();
+        let more = s.moving.len().saturating_sub(10);
+        format!(
+            "initial equilibrium not reached after {} steps (unbalanced force ratio {:.2e} > \
+             analysis.equilibrium_tolerance {:.1e}); still moving, held by nothing: {}{}; the run starts from there",
+            s.steps,
+            s.unbalanced,
+            sys.scenario.analysis.equilibrium_tolerance,
+            if names.is_empty() { "none".into() } else { names.join(", ") },
+            if more > 0 { format!(" and {more} more") } else { String::new() },
+        )
+    });
+    InitialEquilibrium { steps: s.steps, unbalanced_force_ratio: s.unbalanced, converged, warning }
+}
+
 fn energy_summary(
     end: Option<&crate::time::Energy>,
     rows: &[(f64, u64, crate::time::StepReport)],

@@ -11,24 +11,31 @@ use crate::system::System;
 impl Stepper {
     /// Static equilibrium under the initial loads with every contact locked — the stressed
     /// state a run starts from (the usual first stage of a jointed-rock model). Velocities,
-    /// time and step count are restored afterwards; returns (steps, final unbalanced ratio).
+    /// time and step count are restored afterwards.
     ///
     /// First by Newton iterations of the static equilibrium (no inertia: the locked springs
     /// hold every touching block, so a few iterations suffice, however soft the joints). Where
     /// that cannot work — a block held by nothing makes the matrix singular, an iteration
     /// moves too far, or 50 iterations do not converge — it goes on as before, by implicit steps whose velocity is reset each
-    /// step: the mass term regularises, at the cost of many steps for soft, rocking modes.
-    pub fn settle(&mut self, sys: &System, state: &mut State) -> Result<(u64, f64)> {
+    /// step: the mass term regularises, at the cost of many steps for soft, rocking modes. At
+    /// most `analysis.max_settle_steps` of those, and none once a cover has moved by a cover
+    /// cell: a block that nothing holds (a block in the air) would otherwise sink by ½ g Δt² a
+    /// step until `max_steps`.
+    pub fn settle(&mut self, sys: &System, state: &mut State) -> Result<Settled> {
         let m = &mut state.motion;
         let (v, a, dt) = (m.v.clone(), m.a.clone(), m.dt);
         m.v.iter_mut().chain(m.a.iter_mut()).for_each(|x| *x = Vec3::zeros());
         lock(state, true);
         let analysis = &sys.scenario.analysis;
-        let (mut steps, mut unbalanced) = (0, f64::INFINITY);
+        let (mut steps, mut damped, mut unbalanced) = (0, 0, f64::INFINITY);
+        let (mut last_move, u_start) = (Vec::new(), state.motion.u.clone());
+        // A settlement is elastic: a block that has sunk by a cover cell is held by nothing.
+        let sunk = |u: &[Vec3]| u.iter().zip(&u_start).any(|(u, u0)| (u - u0).norm() > sys.covers.mesh.size);
         state.stepper.inertia = false;
-        while steps < analysis.max_steps {
+        while steps < analysis.max_steps && damped < analysis.max_settle_steps && !sunk(&state.motion.u) {
             // A static iteration that fails is undone before the damped steps take over.
             let before = (!state.stepper.inertia).then(|| state.clone());
+            let u0 = state.motion.u.clone();
             let r = match (self.step(sys, state, f64::INFINITY), before) {
                 (Ok(r), None) => r,
                 (Ok(r), Some(_)) if r.cuts == 0 && steps < analysis.max_static_iterations => r,
@@ -45,7 +52,9 @@ impl Stepper {
                 }
             };
             steps += 1;
+            damped += u64::from(state.stepper.inertia);
             unbalanced = r.unbalanced;
+            last_move = state.motion.u.iter().zip(&u0).map(|(u, u0)| (u - u0).norm()).collect();
             if steps > 1 && unbalanced <= analysis.equilibrium_tolerance {
                 break;
             }
@@ -57,8 +66,33 @@ impl Stepper {
         }
         let m = &mut state.motion;
         (m.v, m.a, m.dt, m.time, m.step) = (v, a, dt, 0.0, 0);
-        Ok((steps, unbalanced))
+        let converged = unbalanced <= analysis.equilibrium_tolerance;
+        let moving = if converged { Vec::new() } else { still_moving(sys, &last_move) };
+        Ok(Settled { steps, unbalanced, moving })
     }
+}
+
+/// How the initial equilibrium ended.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Settled {
+    /// Static iterations and damped steps it took.
+    pub steps: u64,
+    /// Out-of-balance force ratio it reached.
+    pub unbalanced: f64,
+    /// When it did not converge: the blocks that moved most in its last step (at least a
+    /// tenth of the largest motion) — those nothing holds.
+    pub moving: Vec<usize>,
+}
+
+/// Blocks whose covers moved by at least a tenth of the largest cover motion `moved` [m].
+fn still_moving(sys: &System, moved: &[f64]) -> Vec<usize> {
+    let mut per_block = vec![0.0_f64; sys.geometry.blocks.len()];
+    for (c, d) in moved.iter().enumerate() {
+        let b = sys.covers.covers[c].block;
+        per_block[b] = per_block[b].max(*d);
+    }
+    let largest = per_block.iter().copied().fold(0.0, f64::max);
+    (0..per_block.len()).filter(|&b| largest > 0.0 && per_block[b] >= 0.1 * largest).collect()
 }
 
 /// Lock or unlock the contacts: locked, closed points stick whatever the force.

@@ -98,6 +98,9 @@ pub struct Analysis {
     pub checkpoint_interval: f64,
     /// Newton iterations of the initial equilibrium before damped steps take over (addition).
     pub max_static_iterations: u64,
+    /// Damped steps of the initial equilibrium after the Newton iterations; at this bound the
+    /// run starts from where it got, and the summary names the blocks still moving (addition).
+    pub max_settle_steps: u64,
     /// Smallest factor one cut applies to Δt when a step moved too far (DDA: 0.1) [-]
     /// (addition).
     pub max_step_cut: f64,
@@ -175,6 +178,7 @@ impl Default for Analysis {
             initial_equilibrium: false,
             checkpoint_interval: 600.0,
             max_static_iterations: 50,
+            max_settle_steps: 5000,
             max_step_cut: 0.1,
             factor_reuse: true,
             krylov_tolerance: 1e-10,

@@ -1,0 +1,79 @@
+"""Verification: the 3DEC "Sliding Wedge" problem (Itasca, 3DEC Verification Problems; Hoek &
+Bray 1977) — joints A 40/130 and B 60/220, k_n = k_s = 10 MPa/m, no cohesion.
+
+The closed form is the vector method (`nmm3d.wedge`): critical friction angle 33.357°, sliding
+along the line of intersection at a = g sin ψ (1 − FS). Issue "rock masses at the implicit
+step": within 0.5° and 1° with the joints' own stiffness and with `auto`. On 10 MPa/m joints the
+wedge closes by about 1 mm; before the contact facets were taken over the whole overlap (not only
+within the support tolerance of the deepest corner) the wedge kept 1 % of its contact area and
+slid at every angle.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import nmm3d
+from conftest import EXAMPLES
+from nmm3d.wedge import critical_friction_angle, wedge
+
+PLANES = (40.0, 130.0), (60.0, 220.0)
+G = 10.0
+PHI_C = critical_friction_angle(*PLANES)
+STIFFNESS = {"10 MPa/m": 1e7, "100 GPa/m": 1e11, "auto": None}
+
+
+def load(stiffness: str, *overrides: str) -> nmm3d.Scenario:
+    """The example with the joints' stiffness [Pa/m], or without it ("auto": the penalty of
+    `[contact]`)."""
+    data = nmm3d.load(EXAMPLES / "sliding_wedge.toml", ["analysis.output_interval=0.0", *overrides]).to_dict()
+    joint = data["joint"][0]
+    joint.pop("normal_stiffness"), joint.pop("shear_stiffness")
+    if STIFFNESS[stiffness] is not None:
+        joint["normal_stiffness"] = joint["shear_stiffness"] = STIFFNESS[stiffness]
+    return nmm3d.Scenario.from_dict(data)
+
+
+def displacement(result: nmm3d.RunResult) -> tuple[np.ndarray, np.ndarray]:
+    h = result.history
+    return h["time"], np.c_[[h[f"wedge.displacement.{c}"] for c in "xyz"]].T
+
+
+def test_the_closed_form_is_3decs():
+    assert PHI_C == pytest.approx(33.36, abs=0.005)
+
+
+@pytest.mark.parametrize("stiffness", STIFFNESS)
+def test_sliding_wedge_slides_along_the_line_of_intersection(stiffness, tmp_path):
+    phi, T = 30.0, 0.6
+    ref = wedge(*PLANES, phi, g=G)
+    r = load(stiffness, "analysis.duration=0.6").run(out=tmp_path)
+    assert r.completed, r.summary["message"]
+    t, d = displacement(r)
+    late = t >= T / 2  # after the joints' settlement
+    s = d[late] @ ref.direction
+    accel = 2.0 * np.polyfit(t[late], s, 2)[0]
+    assert accel == pytest.approx(ref.acceleration, rel=0.01)
+    step = d[-1] - d[late][0]
+    off = math.degrees(math.acos(min(1.0, float(step @ ref.direction) / float(np.linalg.norm(step)))))
+    assert off < 1.0, f"slides {off:.2f}° off the line of intersection"
+
+
+@pytest.mark.parametrize("stiffness", ["10 MPa/m", "100 GPa/m", "auto"])
+def test_sliding_wedge_rests_one_degree_above_the_critical_angle(stiffness, tmp_path):
+    r = load(stiffness, f"joint.j.friction_angle={PHI_C + 1.0}", "analysis.duration=0.8").run(out=tmp_path)
+    assert r.completed, r.summary["message"]
+    t, d = displacement(r)
+    late = d[t >= 0.4]
+    assert float(np.linalg.norm(late[-1] - late[0])) < 1e-4, "still sliding after it settled"
+    assert float(np.linalg.norm(d[-1])) < 0.01, "settled by more than the joints' elastic shear"
+
+
+@pytest.mark.parametrize("stiffness", ["10 MPa/m", "auto"])
+def test_sliding_wedge_critical_friction_angle_by_a_study(stiffness, tmp_path):
+    s = nmm3d.Study(load(stiffness), tmp_path, ["study.tolerance=0.4"]).run(workers=2).summary
+    assert s["status"] == "completed", s["message"]
+    assert s["critical_friction_angle"] == pytest.approx(PHI_C, abs=0.5)
