@@ -92,8 +92,8 @@ def plot(rows: list[tuple[str, dict]], path: Path) -> None:
         b = row["blocks"]
         x, y, v = (np.array([r[k] for r in b]) for k in ("x", "y", "volume"))
         on_road = x > ROAD
-        ax.scatter(x[~on_road], y[~on_road], s=60 * v, c="tab:blue", label="held (slope, transition zone)")
-        ax.scatter(x[on_road], y[on_road], s=60 * v, c="tab:red", label="on the road")
+        ax.scatter(x[~on_road], y[~on_road], s=60 * v[~on_road], c="tab:blue", label="held (slope, transition zone)")
+        ax.scatter(x[on_road], y[on_road], s=60 * v[on_road], c="tab:red", label="on the road")
         ax.axvline(TOE, color="0.4", lw=1, ls="--")
         ax.axvline(ROAD, color="k", lw=1)
         ax.text(TOE, 10.2, " toe", fontsize=8)
@@ -117,25 +117,38 @@ def main() -> None:
     p.add_argument("--duration", type=float, default=9.0)
     p.add_argument("--case", type=int, help=argparse.SUPPRESS)
     p.add_argument("--out", help=argparse.SUPPRESS)
+    p.add_argument("--rows", type=Path, default=Path(tempfile.gettempdir()) / "rock_slope_barrier_rows.json",
+                   help="where the runs' results are kept (read back with --replot)")
+    p.add_argument("--replot", action="store_true", help="write the page and figure from --rows without running")
     args = p.parse_args()
     if args.case is not None:
         print(json.dumps(run_case(CASES[args.case][1], args.duration, args.out)))
         return
+    rows = json.loads(args.rows.read_text()) if args.replot else run_all(args.duration)
+    args.rows.write_text(json.dumps(rows))
+    write(rows, args.duration)
+
+
+def run_all(duration: float) -> list:
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         for k, (title, _) in enumerate(CASES):
             load = os.getloadavg()[0]
-            cmd = [sys.executable, __file__, "--case", str(k), "--duration", str(args.duration), "--out",
+            cmd = [sys.executable, __file__, "--case", str(k), "--duration", str(duration), "--out",
                    str(Path(tmp) / f"case{k}")]
             done = subprocess.run(cmd, check=True, capture_output=True, text=True)
             row = json.loads(done.stdout.strip().splitlines()[-1])
             row["load"] = (load, os.getloadavg()[0])
             rows.append((title, row))
             print(f"{title}: {row['status']}, {row['steps']} steps, {row['wall_seconds']:.0f} s", flush=True)
+    return rows
+
+
+def write(rows: list, duration: float) -> None:
     images = ROOT / "docs" / "images"
     plot(rows, images / "rock_slope_barrier.png")
     lines = ["# Rock slope, case D: bollards in the transition zone", "",
-             f"Produced by `python bench/rock_slope_barrier.py --duration {args.duration:g}` "
+             f"Produced by `python bench/rock_slope_barrier.py --duration {duration:g}` "
              f"({platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}; do not edit by "
              "hand). Thesis Part 5, case D: \"a group of concrete columns (bollards) with a width of 450 mm and a "
              "height of 1700 mm are set at the transition zone between the highway and the potential failure "

@@ -85,9 +85,6 @@ fn timings(sys: &System, stepper: &Stepper, rec: &Recorder) -> BTreeMap<String, 
     t
 }
 
-/// The energy accounts at the end [J], the largest balance error over the run relative to the
-/// largest account of the run, and a warning when it exceeds [`ENERGY_ERROR_BOUND`]; `None`
-/// for runs without accounts (static).
 /// The initial equilibrium in the summary; unconverged, it names the blocks nothing holds.
 fn initial_equilibrium(sys: &System, s: &Settled) -> InitialEquilibrium {
     let converged = s.unbalanced <= sys.scenario.analysis.equilibrium_tolerance;
@@ -98,7 +95,8 @@ fn initial_equilibrium(sys: &System, s: &Settled) -> InitialEquilibrium {
         let more = s.moving.len().saturating_sub(10);
         format!(
             "initial equilibrium not reached after {} steps (unbalanced force ratio {:.2e} > \
-             analysis.equilibrium_tolerance {:.1e}); still moving, held by nothing: {}{}; the run starts from there",
+             analysis.equilibrium_tolerance {:.1e}); still moving at its last step, held by nothing or \
+             hardly: {}{}; the run starts from there",
             s.steps,
             s.unbalanced,
             sys.scenario.analysis.equilibrium_tolerance,
@@ -109,6 +107,9 @@ fn initial_equilibrium(sys: &System, s: &Settled) -> InitialEquilibrium {
     InitialEquilibrium { steps: s.steps, unbalanced_force_ratio: s.unbalanced, converged, warning }
 }
 
+/// The energy accounts at the end [J], the largest balance error over the run relative to the
+/// largest account of the run, and a warning when it exceeds [`ENERGY_ERROR_BOUND`]; `None`
+/// for runs without accounts (static).
 fn energy_summary(
     end: Option<&crate::time::Energy>,
     rows: &[(f64, u64, crate::time::StepReport)],

@@ -80,7 +80,7 @@ pub struct Settled {
     /// Out-of-balance force ratio it reached.
     pub unbalanced: f64,
     /// When it did not converge: the blocks that moved most in its last step (at least a
-    /// tenth of the largest motion) — those nothing holds.
+    /// tenth of the largest motion) — those nothing holds, or hardly.
     pub moving: Vec<usize>,
 }
 
