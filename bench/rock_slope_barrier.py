@@ -29,6 +29,15 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLE = ROOT / "examples" / "rock_slope_bollards.toml"
 TOE, ROAD = 14.28148007, 18.0  # x of the slope's toe and of the road's edge [m]
+WIDTH, GROUND = 10.0, -10.0  # the model's width along y and the road's level [m]
+
+
+def where(b: dict) -> str:
+    """"road", "held" (slope or transition zone) or "off" (left the 10 m wide model over a side
+    and fell past the road's level: the model's width, not the barrier)."""
+    if not (0.0 <= b["y"] <= WIDTH) or b["z"] < GROUND - 1.0:
+        return "off"
+    return "road" if b["x"] > ROAD else "held"
 CASES = [("without bollards (case A)", False), ("with bollards (case D)", True)]
 
 
@@ -91,7 +100,9 @@ def plot(rows: list[tuple[str, dict]], path: Path) -> None:
     for ax, (title, row) in zip(np.atleast_1d(axes), rows):
         b = row["blocks"]
         x, y, v = (np.array([r[k] for r in b]) for k in ("x", "y", "volume"))
-        on_road = x > ROAD
+        on_road = np.array([where(r) == "road" for r in b])
+        inside = np.array([where(r) != "off" for r in b])
+        x, y, v, on_road = x[inside], y[inside], v[inside], on_road[inside]
         ax.scatter(x[~on_road], y[~on_road], s=60 * v[~on_road], c="tab:blue", label="held (slope, transition zone)")
         ax.scatter(x[on_road], y[on_road], s=60 * v[on_road], c="tab:red", label="on the road")
         ax.axvline(TOE, color="0.4", lw=1, ls="--")
@@ -101,7 +112,8 @@ def plot(rows: list[tuple[str, dict]], path: Path) -> None:
         if "with" in title and "without" not in title:
             for k in range(11):
                 ax.add_patch(Rectangle((16.5, 0.225 + 0.9 * k), 0.45, 0.45, color="0.3"))
-        ax.set_title(f"{title}: {int(on_road.sum())} blocks, {v[on_road].sum():.1f} m³ on the road", fontsize=9)
+        ax.set_title(f"{title}: {int(on_road.sum())} blocks, {v[on_road].sum():.2f} m³ on the road "
+                     f"({int((~inside).sum())} off the model)", fontsize=9)
         ax.set_xlabel("x [m] (east, down the slope)")
         ax.set_xlim(-2, 45)
         ax.set_ylim(-0.5, 11)
@@ -161,21 +173,27 @@ def write(rows: list, duration: float) -> None:
              "with them removed. A block is *on the road* when the centroid of its final shape lies beyond "
              f"x = {ROAD:g} m, *held* otherwise (on the slope or in the transition zone between the toe, "
              f"x = {TOE:.2f} m, and the road).", "",
-             "| case | blocks on the road | their volume [m³] | largest there [m³] | blocks held | toe block's run-out "
-             "[m] | steps | cuts | energy balance | deepest overlap [mm] | wall [s] | load |",
-             "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
+             "| case | blocks on the road | their volume [m³] | largest there [m³] | blocks held | off the model "
+             "(volume [m³]) | toe block's run-out [m] | steps | cuts | energy balance | deepest overlap [mm] | "
+             "wall [s] | load |",
+             "|---|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---|"]
     for title, row in rows:
         b = row["blocks"]
-        road = [r for r in b if r["x"] > ROAD]
+        road = [r for r in b if where(r) == "road"]
+        off = [r for r in b if where(r) == "off"]
         largest = max((r["volume"] for r in road), default=0.0)
         energy = row["energy"] or {}
         lines.append(f"| {title} | {len(road)} of {len(b)} | {sum(r['volume'] for r in road):.2f} of "
-                     f"{sum(r['volume'] for r in b):.2f} | {largest:.3f} | {len(b) - len(road)} | {row['toe']:.2f} | "
+                     f"{sum(r['volume'] for r in b):.2f} | {largest:.3f} | {len(b) - len(road) - len(off)} | "
+                     f"{len(off)} ({sum(r['volume'] for r in off):.2f}) | {row['toe']:.2f} | "
                      f"{row['steps']} | {row['step_cuts']} | {100 * energy.get('max_error_ratio', float('nan')):.1f} % | "
                      f"{1e3 * row['max_penetration']:.1f} | {row['wall_seconds']:.0f} | "
                      f"{row['load'][0]:.1f}–{row['load'][1]:.1f} |")
     lines += ["", "![final block positions, plan view](../images/rock_slope_barrier.png)", "",
-              "Dots: each block's final centroid, sized by its volume (red: on the road). Energy balance: the "
+              "Dots: each block's final centroid, sized by its volume (red: on the road). *Off the model*: "
+              "blocks that left the 10 m wide model over a side (beside the road, or thrown sideways off a "
+              "bollard) and fell past the road's level — the model's width, not the barrier, decides where "
+              "they end. Energy balance: the "
               "largest balance error over the run relative to the largest energy account "
               "([theory/energy.md](../theory/energy.md)). The bollards are fixed bodies in contact like the "
               "bedrock; their own strength is not modelled (\"sturdy enough\", as the thesis assumes).", ""]

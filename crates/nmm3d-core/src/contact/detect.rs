@@ -165,13 +165,8 @@ impl ContactSurfaces {
             let blocks = (self.pieces[i].block, self.pieces[j].block);
             let same: Vec<usize> = (0..h.records.len()).filter(|&k| h.records[k].blocks == blocks).collect();
             let joint = joint_between(sys, blocks.0, blocks.1);
-            // A point of the pair has slid over A by at most what the two blocks ran since the
-            // pair's detection: a corner of B's facets that moved farther than the transfer
-            // distance over A is still that point, not an arrival (on 1 MPa/m joints a wedge
-            // settling 8 mm in a step had its face's area counted twice).
-            let known_within = reach + h.travel.since(blocks, Some(&moved));
             for mut q in points {
-                let known = same.iter().any(|&k| (h.records[k].a.reference - q.a.reference).norm() < known_within);
+                let known = same.iter().any(|&k| (h.records[k].a.reference - q.a.reference).norm() < reach);
                 if q.gap >= -p.tolerance || known {
                     continue;
                 }
