@@ -2,15 +2,16 @@
 
 Run: python bench/tunnel.py [--duration 2]
 
-`examples/tunnel_key_blocks.toml` (horseshoe tunnel through three joint sets and two local
+`examples/tunnel_key_blocks.toml` (horseshoe tunnel through three joint sets and three local
 joints, every face but the top held, thesis Part 5) starts from its static equilibrium
 (`initial_equilibrium = true`) and runs `--duration` seconds at the requested Δt = 1 ms:
 
 * at the thesis's φ = 59°: the rock mass must rest;
-* at φ = 30°, below the critical angle of its one key block (block theory: block 17, 4.85 litres,
-  sliding on the local joint 35/200, φc = 35°): that block must slide out of the wall at block
-  theory's acceleration g (sin δ − cos δ tan φ) along the joint's dip vector, then fall into the
-  tunnel, while the rest stays put.
+* at φ = 25°, below the critical angle of its side-wall key block (block theory: block 24,
+  0.041 m³, sliding on the local joint 28/024, φc = 28°) and above the roof key block's (22.6°):
+  the wall block must slide out of the wall at block theory's acceleration
+  g (sin δ − cos δ tan φ) along the joint's dip vector, then fall into the tunnel, while the
+  rest stays put.
 
 Per case: the initial equilibrium's iterations and unbalanced-force ratio, steps against the
 requested Δt, step cuts, open–close iterations, factorisations, wall time and its split per
@@ -33,12 +34,13 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLE = ROOT / "examples" / "tunnel_key_blocks.toml"
-# Block 17's centroid (`nmm3d blocks examples/tunnel_key_blocks.toml`) and its sliding joint.
-KEY_POINT = [6.2975, 0.9939, -0.2883]
-JOINT_DIP, JOINT_DIP_DIRECTION = 35.0, 200.0
+# The side-wall key block's centroid (block 24, `nmm3d keyblocks examples/tunnel_key_blocks.toml`)
+# and its sliding joint.
+KEY_POINT = [6.586, -0.959, -0.443]
+JOINT_DIP, JOINT_DIP_DIRECTION = 28.0, 24.0
 CRITICAL_ANGLE = JOINT_DIP  # sliding on one plane: φc = the plane's dip
 G = 9.8
-CASES = [("φ = 59° (thesis): rests", 59.0), ("φ = 30°: the key block slides out and falls", 30.0)]
+CASES = [("φ = 59° (thesis): rests", 59.0), ("φ = 25°: the wall key block slides out and falls", 25.0)]
 PHASES = ["assembly", "contact_detection", "contact_pattern", "factorization", "krylov", "contact_open_close"]
 KEYS = ("status", "steps", "step_cuts", "open_close_iterations", "wall_seconds", "timings", "final", "max_penetration",
         "step_diagnostics", "energy", "penalty_raises", "manifold_elements", "dofs", "blocks", "initial_equilibrium",
@@ -137,7 +139,7 @@ def write(rows: list, duration: float) -> None:
         "",
         "Reading the table: \"iterations, unbalanced ratio\" are the static solve's Newton iterations",
         "with every joint locked and its final out-of-balance force relative to the weight; \"key",
-        "block\" is the displacement of block 17's centroid at the end; the balance error is the",
+        "block\" is the displacement of the wall key block's centroid (block 24) at the end; the balance error is the",
         "largest over the run relative to its largest account (5 % gets a warning in `summary.json`).",
         "",
     ]

@@ -423,7 +423,9 @@ def main() -> None:
             "dominos run (`verification_dominos.rs`, timed in `docs/performance-contact.md`) and the dougong collapse "
             "(`verification_dougong.rs`). Block theory (`nmm3d keyblocks`) against Goodman & Shi's joint pyramids, the "
             "vector method and the NMM critical-friction studies: `tests/test_keyblocks.py` and "
-            "[keyblocks-results.md](keyblocks-results.md).", ""]
+            "[keyblocks-results.md](keyblocks-results.md); the thesis tunnel's roof and side-wall key blocks, limit "
+            "equilibrium against per-block NMM studies: [applications/tunnel-key-blocks.md](applications/tunnel-key-blocks.md).",
+            ""]
     (ROOT / "docs" / "verification.md").write_text("\n".join(head + rep.lines))
     print("wrote docs/verification.md")
 

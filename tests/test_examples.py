@@ -143,6 +143,21 @@ def test_rock_mass_examples_match_the_thesis_description(tmp_path):
     assert b["volume"][layer].mean() == pytest.approx(1.23, rel=0.3)
 
 
+def test_thesis_tunnel_has_a_roof_and_a_side_wall_key_block():
+    # Thesis Part 5: two key blocks, #11 in the roof and #12 in the side wall; both held at the
+    # thesis's φ = 59°, and the wall block the less stable one (critical angles 17.6° > 11.1°).
+    kb = nmm3d.keyblocks(EXAMPLES / "tunnel_key_blocks.toml")
+    key = kb.key_blocks()
+    assert len(key) == 2, [(b.id, b.mode.mode) for b in key]
+    half_width, springline = 0.9, 0.1  # the horseshoe: 1.8 m wide, crown arc from z = 0.1 m
+    roof = [b for b in key if abs(b.centroid[1]) < half_width and b.centroid[2] > springline]
+    wall = [b for b in key if b.centroid[2] < springline]
+    assert len(roof) == 1 and len(wall) == 1, [(b.id, b.centroid) for b in key]
+    assert wall[0].mode.critical_friction_angle > roof[0].mode.critical_friction_angle > 5.0
+    assert wall[0].mode.critical_friction_angle < 59.0
+    assert 0.01 < wall[0].volume < roof[0].volume < 0.5
+
+
 def test_rock_mass_examples_run(results):
     for name in ("tunnel_key_blocks.toml", "rock_slope.toml"):
         assert results[name].completed, results[name].summary["message"]

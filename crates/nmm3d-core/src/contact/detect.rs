@@ -52,8 +52,8 @@ impl ContactSurfaces {
         let pairs = h.warning.update(&current, p.margin, p.skin, keep).to_vec();
         self.times.warning += clock.elapsed().as_secs_f64();
         let clock = Instant::now();
-        // Pairs whose blocks have not moved by the tolerance since their last detection keep
-        // their points (`travel`); the others are detected again.
+        // Pairs whose blocks have not moved against each other by the tolerance since their
+        // last detection keep their points (`travel`); the others are detected again.
         let candidates: FxHashSet<(usize, usize)> = pairs.iter().map(|&q| self.blocks_of(q)).collect();
         h.travel.retain(|q| candidates.contains(q));
         let moved = |q: &(usize, usize)| initial || h.travel.since(self.blocks_of(*q), None) >= p.tolerance;
@@ -147,8 +147,8 @@ impl ContactSurfaces {
     ) -> Vec<ContactRecord> {
         let clock = Instant::now();
         let current: Vec<_> = self.pieces.par_iter().map(|p| p.current(sys, end)).collect();
-        // Only pairs whose blocks have moved by the tolerance since their detection, this
-        // trial included, can have a point arrive.
+        // Only pairs whose blocks have moved against each other by the tolerance since their
+        // detection, this trial included, can have a point arrive.
         let trial: Vec<Vec3> = end.u.iter().zip(&start.u).map(|(e, s)| e - s).collect();
         let moved = Travel::per_block(sys, &trial);
         let p = h.params;

@@ -87,7 +87,7 @@ fn timings(sys: &System, stepper: &Stepper, rec: &Recorder) -> BTreeMap<String, 
 
 /// The initial equilibrium in the summary; unconverged, it names the blocks nothing holds.
 fn initial_equilibrium(sys: &System, s: &Settled) -> InitialEquilibrium {
-    let converged = s.unbalanced <= sys.scenario.analysis.equilibrium_tolerance;
+    let converged = s.converged(sys);
     let warning = (!converged).then(|| {
         let names: Vec<String> = (s.moving.iter().take(10))
             .map(|&b| format!("block {b} of body '{}'", sys.scenario.body[sys.geometry.blocks[b].body].name))

@@ -28,7 +28,9 @@ impl Stepper {
         lock(state, true);
         let analysis = &sys.scenario.analysis;
         let (mut steps, mut damped, mut unbalanced) = (0, 0, f64::INFINITY);
-        let (mut last_move, u_start) = (Vec::new(), state.motion.u.clone());
+        let u_start = state.motion.u.clone();
+        // Where the last step started (its motion names the blocks still moving).
+        let mut u_last = u_start.clone();
         // A settlement is elastic: a block that has sunk by a cover cell is held by nothing.
         let sunk = |u: &[Vec3]| u.iter().zip(&u_start).any(|(u, u0)| (u - u0).norm() > sys.covers.mesh.size);
         state.stepper.inertia = false;
@@ -54,7 +56,7 @@ impl Stepper {
             steps += 1;
             damped += u64::from(state.stepper.inertia);
             unbalanced = r.unbalanced;
-            last_move = state.motion.u.iter().zip(&u0).map(|(u, u0)| (u - u0).norm()).collect();
+            u_last = u0;
             if steps > 1 && unbalanced <= analysis.equilibrium_tolerance {
                 break;
             }
@@ -66,9 +68,12 @@ impl Stepper {
         }
         let m = &mut state.motion;
         (m.v, m.a, m.dt, m.time, m.step) = (v, a, dt, 0.0, 0);
-        let converged = unbalanced <= analysis.equilibrium_tolerance;
-        let moving = if converged { Vec::new() } else { still_moving(sys, &last_move) };
-        Ok(Settled { steps, unbalanced, moving })
+        let mut out = Settled { steps, unbalanced, moving: Vec::new() };
+        if !out.converged(sys) {
+            let last_move: Vec<f64> = m.u.iter().zip(&u_last).map(|(u, u0)| (u - u0).norm()).collect();
+            out.moving = still_moving(sys, &last_move);
+        }
+        Ok(out)
     }
 }
 
@@ -82,6 +87,13 @@ pub struct Settled {
     /// When it did not converge: the blocks that moved most in its last step (at least a
     /// tenth of the largest motion) — those nothing holds, or hardly.
     pub moving: Vec<usize>,
+}
+
+impl Settled {
+    /// Whether it reached `analysis.equilibrium_tolerance`.
+    pub fn converged(&self, sys: &System) -> bool {
+        self.unbalanced <= sys.scenario.analysis.equilibrium_tolerance
+    }
 }
 
 /// Blocks whose covers moved by at least a tenth of the largest cover motion `moved` [m].
