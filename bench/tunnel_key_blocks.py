@@ -90,7 +90,9 @@ def study(d: dict, ids: list[int], tolerance: float, out: Path) -> dict:
     result = nmm3d.Study(nmm3d.Scenario.from_dict(d), out=out).run()
     s = result.summary
     s["wall"] = time.perf_counter() - t
-    s["runs"] = len(next(iter(result.table.values())))
+    # Each run's own wall time (kept in its record, also when a resumed study reuses it).
+    records = [json.loads(p.read_text()) for p in sorted((out / "runs").glob("*/record.json"))]
+    s["runs"], s["run_seconds"] = len(records), sum(r.get("wall_seconds", 0.0) for r in records)
     return s
 
 
@@ -108,21 +110,40 @@ def failure(d: dict, ids: dict[str, int], duration: float, out: Path) -> dict:
     return {"summary": r.summary, "history": {k: np.asarray(h[k]) for k in h}}
 
 
-def events(h: dict, name: str) -> tuple[float | None, float | None]:
-    """When the block's fall became free (it left the rock around it) and when it landed."""
+def events(h: dict, name: str) -> dict[str, float | None]:
+    """When the block's fall became free (it left the rock around it), when it first struck
+    something (an upward acceleration of half g after it has moved 1 cm) and when it came to
+    rest (its centroid within 1 cm of where it ends, from then on) [s]; `None` where it did not."""
     t, vz = h["time"], h[f"{name}.velocity.z"]
+    u = np.stack([h[f"{name}.displacement.{c}"] for c in "xyz"], axis=1)
+    out: dict[str, float | None] = {"free": None, "impact": None, "rest": None}
     if len(t) < 3:
-        return None, None
+        return out
     # Accelerations over 10 ms windows (steps are 1 ms; a single step's is noisy at contacts).
     k = max(1, int(round(0.01 / max(np.median(np.diff(t)), 1e-9))))
     az = (vz[k:] - vz[:-k]) / (t[k:] - t[:-k])
     tm = 0.5 * (t[k:] + t[:-k])
-    free = np.flatnonzero(az <= -FREE_FALL * G)
-    if not len(free):
-        return None, None
-    detach = float(tm[free[0]])
-    landed = np.flatnonzero((tm > detach) & (az >= 0.5 * G))
-    return detach, (float(tm[landed[0]]) if len(landed) else None)
+    moved = np.linalg.norm(u[:-k], axis=1) > 0.01
+    free = np.flatnonzero(np.abs(az + G) <= (1.0 - FREE_FALL) * G)
+    out["free"] = float(tm[free[0]]) if len(free) else None
+    hit = np.flatnonzero(moved & (az >= 0.5 * G))
+    out["impact"] = float(tm[hit[0]]) if len(hit) else None
+    away = np.flatnonzero(np.linalg.norm(u - u[-1], axis=1) > 0.01)
+    if len(away) and away[-1] + 1 < len(t) and np.linalg.norm(u[-1]) > 0.01:
+        out["rest"] = float(t[away[-1] + 1])
+    return out
+
+
+def reused_or_run(d: dict, ids: dict[str, int], duration: float, out: Path, reuse: bool) -> dict:
+    """The failure run: the one in `out` if asked and complete, else a new one."""
+    if reuse and (out / "summary.json").exists():
+        r = nmm3d.Result(out)
+        return {"summary": r.summary, "history": {k: np.asarray(v) for k, v in r.history.items()}, "wall": r.summary["wall_seconds"]}
+    shutil.rmtree(out, ignore_errors=True)
+    t = time.perf_counter()
+    run = failure(d, ids, duration, out)
+    run["wall"] = time.perf_counter() - t
+    return run
 
 
 def frames(out: Path, ids: dict[str, int], times: list[float], d: dict, path: Path) -> None:
@@ -191,14 +212,13 @@ def histories(run: dict, ids: dict[str, int], ev: dict, path: Path) -> None:
     colours = {"roof": "tab:red", "wall": "tab:orange"}
     for name in ids:
         ax.plot(h["time"], h[f"{name}.displacement.z"], color=colours[name], label=f"{name} key block (block {ids[name]})")
-        detach, land = ev[name]
-        for t, mark in ((detach, "o"), (land, "s")):
+        for t, mark in ((ev[name]["free"], "o"), (ev[name]["impact"], "s"), (ev[name]["rest"], "^")):
             if t is not None:
                 z = float(np.interp(t, h["time"], h[f"{name}.displacement.z"]))
                 ax.plot([t], [z], mark, color=colours[name], ms=6)
     ax.set_xlabel("time [s]")
     ax.set_ylabel("centroid displacement z [m]")
-    ax.set_title(f"φ = {PHI_FAIL:g}°: circles where the fall becomes free, squares where the block lands", fontsize=9)
+    ax.set_title(f"φ = {PHI_FAIL:g}°: ○ the fall becomes free, □ first impact, △ at rest", fontsize=9)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
@@ -220,6 +240,7 @@ def main() -> None:
     p.add_argument("--tolerance", type=float, default=0.5)
     p.add_argument("--work", type=Path, default=Path(tempfile.gettempdir()) / "nmm3d_tunnel_key_blocks",
                    help="where the study and the failure run write (a study there is resumed)")
+    p.add_argument("--reuse-run", action="store_true", help="take the failure run already in --work")
     args = p.parse_args()
     load = os.getloadavg()[0]
     d = nmm3d.load(EXAMPLE).to_dict()
@@ -233,16 +254,44 @@ def main() -> None:
     print("key blocks", ids, flush=True)
     s = study(d, list(ids.values()), args.tolerance, tmp / "study")
     print("study", json.dumps(s)[:400], flush=True)
-    t = time.perf_counter()
-    shutil.rmtree(tmp / "fail", ignore_errors=True)
-    run = failure(d, ids, args.duration, tmp / "fail")
-    run["wall"] = time.perf_counter() - t
+    run = reused_or_run(d, ids, args.duration, tmp / "fail", args.reuse_run)
     ev = {name: events(run["history"], name) for name in ids}
     print("events", ev, flush=True)
     histories(run, ids, ev, IMAGES / "tunnel_key_blocks_histories.png")
-    marks = sorted({0.0, *[x for e in ev.values() for x in e if x is not None], args.duration})
-    frames(tmp / "fail", ids, marks[:5], d, IMAGES / "tunnel_key_blocks_frames.png")
+    marks: list[float] = []
+    for x in sorted({0.0, *[x for e in ev.values() for x in e.values() if x is not None], args.duration}):
+        if not marks or x - marks[-1] >= 0.05:
+            marks.append(x)
+    frames(tmp / "fail", ids, marks[:6], d, IMAGES / "tunnel_key_blocks_frames.png")
     write(stats, kb, key, s, run, ev, load, args)
+
+
+def reading(key: dict, per_block: dict) -> list[str]:
+    """What the two angles say, from the numbers."""
+    out = []
+    for name, b in key.items():
+        br = (per_block.get(b.id) or {}).get("bracket") or [None, None]
+        if None in br:
+            continue
+        diff = 0.5 * (br[0] + br[1]) - b.mode.critical_friction_angle
+        if abs(diff) <= 1.0:
+            out.append(f"The {name} block fails where limit equilibrium says (within {abs(diff):.2f}°): it slides "
+                       "as a rigid block on its joint(s), the surrounding rock clamping it no more than its weight does.")
+        else:
+            out.append(f"The {name} block holds down to {abs(diff):.1f}° {'below' if diff < 0 else 'above'} its "
+                       "limit-equilibrium angle"
+                       + (": the rock around it, stressed by its own weight (the initial equilibrium), presses on "
+                          "its faces beyond what the block's weight alone gives — the clamping that translational "
+                          "theory leaves out and that the thesis also found for its narrow roof block."
+                          if diff < 0 else ": something the translational theory leaves out moves it sooner "
+                          "(block theory flags it as one that may rotate)." if b.rotation_warning else "."))
+    crit = {name: b.mode.critical_friction_angle for name, b in key.items()}
+    if {"roof", "wall"} <= crit.keys():
+        first = max(crit, key=crit.get)
+        out.append(f"As the friction angle falls the {first} block goes first, as in the thesis "
+                   f"({'side wall' if first == 'wall' else 'roof'} before {'roof' if first == 'wall' else 'side wall'}; "
+                   "the thesis: side wall 17.6°, roof 11.1°).")
+    return out
 
 
 def write(stats, kb, key, s, run, ev, load, args) -> None:
@@ -278,7 +327,7 @@ def write(stats, kb, key, s, run, ev, load, args) -> None:
         f"Limit equilibrium: `nmm3d keyblocks` (Goodman–Shi removability, the vector method). NMM: "
         f"`nmm3d study`, critical friction per block (bisection over 10–45° to {args.tolerance:g}°; a block has failed "
         f"when its centroid has moved {100 * CRITERION:g} cm after {CRITERION_TIME:g} s), "
-        f"{s.get('wall', 0):.0f} s wall.",
+        f"{s['runs']} runs of {s['run_seconds']:.0f} s in all (two at a time).",
         "",
         "| key block | id | volume [m³] | mode | sliding on | trend / plunge [°] | LE φc [°] | NMM bracket [°] | NMM − LE [°] | thesis NMM φc [°] |",
         "|---|---:|---:|---|---|---|---:|---|---:|---:|",
@@ -293,24 +342,27 @@ def write(stats, kb, key, s, run, ev, load, args) -> None:
         lines.append(f"| {name} | {b.id} | {b.volume:.4f} | {m.mode} | {on} | {tr:.1f} / {pl:.1f} | "
                      f"{m.critical_friction_angle:.3f} | [{fmt(br[0])}, {fmt(br[1])}] | "
                      f"{'–' if mid is None else f'{mid - m.critical_friction_angle:+.2f}'} | {THESIS[name]['phi_c']} |")
+    lines += ["", *reading(key, per_block), ""]
     summ = run["summary"]
     lines += [
-        "",
         f"## Failure at φ = {PHI_FAIL:g}°",
         "",
         f"{args.duration:g} s simulated from the static equilibrium: {summ['steps']} steps "
         f"({summ['step_cuts']} cut), {run['wall']:.0f} s wall, deepest overlap {1e3 * summ['max_penetration']:.2f} mm, "
         f"energy balance error {100 * ((summ.get('energy') or {}).get('max_error_ratio') or 0):.1f} %. "
         "A key block has left the rock around it when its fall becomes free (vertical acceleration "
-        f"within {100 * (1 - FREE_FALL):.0f} % of g, over 10 ms) and has landed when an upward acceleration "
-        "of half g stops it.",
+        f"within {100 * (1 - FREE_FALL):.0f} % of g, over 10 ms); its first impact is the first upward acceleration "
+        "of half g once it has moved 1 cm; it is at rest once its centroid stays within 1 cm of where it ends.",
         "",
-        "| key block | leaves the rock [s] | lands on the floor [s] | thesis: detached / fallen [s] |",
-        "|---|---:|---:|---|",
+        "| key block | falls freely from [s] | first impact [s] | at rest from [s] | centroid drop [m] | thesis: detached / at the bottom [s] |",
+        "|---|---:|---:|---:|---:|---|",
     ]
+    h = run["history"]
     for name in key:
-        detach, land = ev[name]
-        lines.append(f"| {name} | {fmt(detach)} | {fmt(land)} | {THESIS[name]['detach']} / {THESIS[name]['land']} |")
+        e = ev[name]
+        drop = -float(h[f"{name}.displacement.z"][-1])
+        lines.append(f"| {name} | {fmt(e['free'])} | {fmt(e['impact'])} | {fmt(e['rest'])} | {drop:.2f} | "
+                     f"{THESIS[name]['detach']} / {THESIS[name]['land']} |")
     lines += [
         "",
         "![key block histories](../images/tunnel_key_blocks_histories.png)",
