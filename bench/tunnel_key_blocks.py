@@ -252,6 +252,10 @@ def main() -> None:
     key = classify(kb, half, crown)
     ids = {name: b.id for name, b in key.items()}
     print("key blocks", ids, flush=True)
+    from nmm3d.key_block_plots import plot_blocks, plot_key_stereonet
+
+    plot_blocks(kb, IMAGES / "keyblocks_tunnel_key_blocks.png")
+    plot_key_stereonet(kb, IMAGES / "keyblocks_tunnel_key_blocks_stereonet.png")
     s = study(d, list(ids.values()), args.tolerance, tmp / "study")
     print("study", json.dumps(s)[:400], flush=True)
     run = reused_or_run(d, ids, args.duration, tmp / "fail", args.reuse_run)
@@ -321,6 +325,14 @@ def write(stats, kb, key, s, run, ev, load, args) -> None:
         f"| smallest / mean / largest block [m³] | {min(vols):.3f} / {np.mean(vols):.2f} / {max(vols):.2f} | – |",
         f"| key blocks (block theory) | {len(kb.key_blocks())} | 2 (roof #11, side wall #12) |",
         f"| largest key block [m³] | {max((b.volume for b in kb.key_blocks()), default=0.0):.3f} | {THESIS['largest_key']} |",
+        "",
+        "The blocks with a free face and the key blocks (`nmm3d keyblocks`), the joints and the key blocks' "
+        "sliding directions on a stereonet (lower hemisphere), and the joint sets as `nmm3d blocks` draws them:",
+        "",
+        "![key blocks](../images/keyblocks_tunnel_key_blocks.png) "
+        "![key-block stereonet](../images/keyblocks_tunnel_key_blocks_stereonet.png)",
+        "",
+        "![joint stereonet](../images/tunnel_key_blocks_stereonet.png)",
         "",
         "## Key blocks: limit equilibrium against the NMM",
         "",
