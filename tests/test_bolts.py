@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 import nmm3d
+from nmm3d import analytic
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "bolted_block.toml"
 W = 2500.0 * 9.81 * 1.0  # the cube's weight [N]
@@ -132,3 +133,108 @@ def test_the_goodman_roof_key_block_held_by_its_bolt_pattern(tmp_path):
     assert moved[1] < 0.1 * moved[0], moved
     forces = [run.history[f"roof_{i}_{j}.axial_force.value"][-1] for i in range(5) for j in range(5)]
     assert 0.0 < max(forces) < 3e4  # the bolts in the block carry it, none at yield
+
+
+# Fully grouted bolts (grouted = true): reinforcement across each joint they cross.
+GROUTED = EXAMPLE.parent / "grouted_bolt.toml"
+DOWEL = EXAMPLE.parent / "grouted_dowel.toml"
+EA, KB = 9.82e7, 1.0e9  # the examples' bar [N] and grout [Pa]
+
+
+def bonded_side(length: float) -> float:
+    """A bar on an elastic shear foundation pulled at its end (Farmer 1975)."""
+    return analytic.grouted_side_stiffness(EA, KB, length)
+
+
+def test_a_grouted_bolt_across_a_joint_stretches_by_w_over_its_two_bonded_sides(tmp_path):
+    r = nmm3d.load(GROUTED).run(out=tmp_path / "run")
+    k1, k2 = bonded_side(0.95), bonded_side(0.5)
+    assert r.history["rebar.axial_force.value"][-1] == pytest.approx(W, rel=1e-6)
+    assert r.history["rebar.elongation.value"][-1] == pytest.approx(W * (1 / k1 + 1 / k2), rel=1e-6)
+    # Deeper in the roof it is stiffer: the semi-infinite bar's sqrt(EA k_b) is the bound.
+    deep = nmm3d.load(GROUTED, ["bolt.rebar.anchor=[0.5, 0.5, 0.999]"]).run(out=tmp_path / "deep")
+    assert deep.history["rebar.elongation.value"][-1] == pytest.approx(W * (1 / k1 + 1 / bonded_side(0.999)), rel=1e-6)
+
+
+def test_a_grouted_bolt_pulls_out_at_its_bond_strength_times_its_shorter_side(tmp_path):
+    """Bond strength 2e4 N/m over the 0.5 m in the roof: 1e4 N < W, so the cube comes down at
+    (W − 1e4) / m; over 0.95 m at 3e4 N/m (the cube's side is shorter then: 28.5 kN > W) it holds."""
+    r = nmm3d.load(GROUTED, [*DYNAMIC, "bolt.rebar.bond_strength=2e4"]).run(out=tmp_path / "out")
+    t, v = r.history["time"], r.history["block.velocity.z"]
+    late = t > 0.05
+    assert np.polyfit(t[late], v[late], 1)[0] == pytest.approx(-(W - 1e4) / 2500.0, rel=0.01)
+    assert np.allclose(r.history["rebar.axial_force.value"][late], 1e4, rtol=1e-9)
+    held = nmm3d.load(GROUTED, [*DYNAMIC, "bolt.rebar.bond_strength=3e4", "bolt.rebar.anchor=[0.5, 0.5, 0.999]"]
+                      ).run(out=tmp_path / "held")
+    assert abs(held.history["block.displacement.z"][-1]) < 1e-3
+
+
+def dowel_stiffness(kf: float = 1e9, d: float = 0.025) -> float:
+    """The examples' rebar (EI = EA d² / 16) in a foundation k_f: Hetényi's k_f / (4λ)."""
+    return analytic.dowel_stiffness(kf, EA * d * d / 16.0)
+
+
+def test_a_grouted_bolt_holds_a_block_on_a_smooth_joint_by_dowel_action(tmp_path):
+    import math
+
+    r = nmm3d.load(DOWEL).run(out=tmp_path / "run")
+    drive = 2500.0 * 9.81 * math.sin(math.radians(20.0))
+    assert r.history["dowel.shear_force.value"][-1] == pytest.approx(drive, rel=1e-4)
+    assert r.history["block.displacement.x"][-1] == pytest.approx(drive / dowel_stiffness(), rel=0.01)
+    # A cable (no foundation modulus, no dowel) does not hold it.
+    cable = nmm3d.load(DOWEL, [*DYNAMIC]).to_dict()
+    for key in ("foundation_modulus", "diameter"):
+        cable["bolt"][0].pop(key)
+    c = nmm3d.Scenario.from_dict(cable).run(out=tmp_path / "cable")
+    assert c.history["block.displacement.x"][-1] > 0.05
+
+
+def test_a_dowel_past_its_shear_capacity_lets_the_block_slide(tmp_path):
+    import math
+
+    cap = 5e3
+    r = nmm3d.load(DOWEL, [*DYNAMIC, f"bolt.dowel.shear_capacity={cap}"]).run(out=tmp_path / "run")
+    t, v = r.history["time"], r.history["block.velocity.x"]
+    late = t > 0.05
+    drive = 2500.0 * 9.81 * math.sin(math.radians(20.0))
+    assert np.polyfit(t[late], v[late], 1)[0] == pytest.approx((drive - cap) / 2500.0, rel=0.02)
+    assert np.allclose(r.history["dowel.shear_force.value"][late], cap, rtol=1e-6)
+
+
+def test_bolt_frames_draw_each_bolt_with_its_forces(tmp_path):
+    """A grouted bolt is drawn through its ends and the joint it crosses; VTK, PyVista and meshio
+    read the frame."""
+    import meshio
+    import pyvista as pv
+
+    r = nmm3d.load(GROUTED).run(out=tmp_path / "run")
+    frames = sorted((tmp_path / "run" / "frames").glob("bolts_*.vtu"))
+    assert frames and "bolts_" in (tmp_path / "run" / "result.pvd").read_text()
+    m = pv.read(frames[-1])
+    assert m.n_points == 3 and m.n_cells == 2
+    assert m.point_data["axial_force"][1] == pytest.approx(W, rel=1e-6)
+    assert m.points[1] == pytest.approx([0.5, 0.5, -r.history["rebar.elongation.value"][-1]], abs=1e-6)
+    mesh = meshio.read(frames[-1])
+    assert mesh.cells[0].type == "line" and len(mesh.point_data["shear_force"]) == 3
+
+
+def test_grouted_bolt_inputs_are_checked():
+    with pytest.raises(nmm3d.ScenarioError, match="bolt.rebar.axial_rigidity"):
+        nmm3d.load(GROUTED, ["bolt.rebar.axial_rigidity=0"])
+    with pytest.raises(nmm3d.ScenarioError, match="bolt.rebar.stiffness"):
+        nmm3d.load(GROUTED, ["bolt.rebar.stiffness=1e7"])
+    with pytest.raises(nmm3d.ScenarioError, match="bolt.rebar.diameter"):
+        nmm3d.load(GROUTED, ["bolt.rebar.foundation_modulus=1e9"])
+    with pytest.raises(nmm3d.ScenarioError, match="bolt.b1.bond_stiffness"):
+        nmm3d.load(EXAMPLE, ["bolt.b1.bond_stiffness=1e9"])
+    with pytest.raises(nmm3d.ScenarioError, match="unknown field"):
+        nmm3d.load(GROUTED, ["bolt.rebar.bond_strenght=1e4"])
+
+
+def test_key_block_held_by_a_grouted_bolt_counts_its_pull_out_capacity():
+    """The hanging cube: its grouted bar holds it with min(F_y, τ × shorter side) = 2e4 × 0.5
+    (the joint is found to the blocks' containment tolerance, 1e-9 of the model's diagonal)."""
+    [b] = nmm3d.keyblocks(nmm3d.load(GROUTED, ["bolt.rebar.bond_strength=2e4"])).blocks
+    assert b.mode.mode == "falling" and b.mode.factor_of_safety == pytest.approx(1e4 / W, rel=1e-7)
+    [b] = nmm3d.keyblocks(GROUTED).blocks
+    assert b.mode.factor_of_safety == pytest.approx(2.45e5 / W, rel=1e-9)

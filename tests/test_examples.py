@@ -45,6 +45,8 @@ CASES = {
     "newmark_sliding_block.toml": [],
     "incline_water.toml": [],
     "bolted_block.toml": [],
+    "grouted_bolt.toml": [],
+    "grouted_dowel.toml": [],
     "sliding_wedge.toml": [],
 }
 
@@ -101,7 +103,8 @@ def test_examples_with_a_closed_form_state_it():
     for name in ("free_fall.toml", "bar_patch.toml", "hanging_bar.toml", "cantilever.toml",
                  "cantilever_self_weight.toml", "incline.toml", "roof_wedge.toml", "drop_test.toml",
                  "block_on_joint.toml", "tetrahedral_wedge.toml", "newmark_sliding_block.toml",
-                 "incline_water.toml", "bolted_block.toml", "two_wedges.toml", "sliding_wedge.toml"):
+                 "incline_water.toml", "bolted_block.toml", "grouted_bolt.toml", "grouted_dowel.toml",
+                 "two_wedges.toml", "sliding_wedge.toml"):
         assert nmm3d.load(EXAMPLES / name).to_dict().get("expect"), name
 
 

@@ -8,6 +8,7 @@
 """
 
 from nmm3d._core import InternalError, NmmError, OutputError, RunError, ScenarioError, __version__
+from nmm3d.bolt_design import BoltDesign, design_bolt_pattern
 from nmm3d.key_blocks import KeyBlocks, keyblocks
 from nmm3d.result import Result
 from nmm3d.scenario import Scenario, load
@@ -15,6 +16,7 @@ from nmm3d.study import Study, StudyResult
 from nmm3d.summary import RunSummary
 
 __all__ = [
+    "BoltDesign",
     "InternalError",
     "KeyBlocks",
     "NmmError",
@@ -27,6 +29,7 @@ __all__ = [
     "Study",
     "StudyResult",
     "__version__",
+    "design_bolt_pattern",
     "keyblocks",
     "load",
 ]

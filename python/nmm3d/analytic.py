@@ -106,3 +106,25 @@ def planar_fs(weight: float, slope_deg: float, friction_deg: float, cohesion_for
     theta = psi if crack_angle is None else math.radians(crack_angle)
     normal = weight * math.cos(psi) - uplift - crack * math.sin(theta)
     return (cohesion_force + normal * tan) / (weight * math.sin(psi) + crack * math.cos(theta))
+
+
+def grouted_side_stiffness(axial_rigidity: float, bond_stiffness: float, length: float) -> float:
+    """Axial stiffness [N/m] of a bar of rigidity EA [N] bonded over ``length`` [m] by a grout of
+    shear stiffness k_b [N/m per m], pulled at one end: √(EA k_b) tanh(βL), β = √(k_b/EA)
+    (Farmer 1975)."""
+    return math.sqrt(axial_rigidity * bond_stiffness) * math.tanh(math.sqrt(bond_stiffness / axial_rigidity) * length)
+
+
+def grouted_axial_stiffness(axial_rigidity: float, bond_stiffness: float, l1: float, l2: float) -> float:
+    """Axial stiffness [N/m] of a grouted bar across a joint with ``l1`` and ``l2`` [m] bonded on
+    its sides: the two sides in series."""
+    k1, k2 = (grouted_side_stiffness(axial_rigidity, bond_stiffness, length) for length in (l1, l2))
+    return k1 * k2 / (k1 + k2)
+
+
+def dowel_stiffness(foundation_modulus: float, bending_rigidity: float) -> float:
+    """Shear stiffness [N/m] of a bar across a joint: each side a semi-infinite beam of rigidity
+    EI [N m²] on a Winkler foundation k_f [Pa], loaded at the joint with zero moment, deflects
+    2Vλ/k_f (Hetényi 1946), λ = (k_f/4EI)^¼; the joint's shear is twice that: k_f/(4λ)."""
+    lam = (foundation_modulus / (4.0 * bending_rigidity)) ** 0.25
+    return foundation_modulus / (4.0 * lam)

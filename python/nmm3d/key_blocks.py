@@ -210,15 +210,24 @@ def _water_force(d: dict[str, Any], faces: list[dict[str, Any]], g: float) -> np
 
 
 def _support(d: dict[str, Any], bolts: list[dict[str, Any]], block: int) -> np.ndarray:
-    """The passive support of the bolts whose head is in ``block`` and anchor in another block:
-    each pulls towards its anchor with its yield force (bolts without one are not counted)."""
+    """The passive support on ``block`` [N]: an anchored bolt whose head is in it and anchor in
+    another block pulls towards its anchor with its yield force; a grouted bolt, at each joint
+    of the block it crosses, pulls it towards the rock across with that joint's axial capacity
+    (the steel's yield force or the pull-out of the shorter bonded side, as in a run). Bolts
+    without a finite capacity are not counted."""
     spec = {b["name"]: b for b in d.get("bolt", [])}
     total = np.zeros(3)
     for b in bolts:
         s = spec[b["name"]]
-        if b["head_block"] == block and b["anchor_block"] not in (None, block) and s.get("yield_force"):
-            axis = np.subtract(s["anchor"], s["head"])
-            total += s["yield_force"] * axis / np.linalg.norm(axis)
+        axis = np.subtract(s["anchor"], s["head"])
+        axis = axis / np.linalg.norm(axis)
+        if s.get("grouted"):
+            for c in b.get("crossings", []):
+                if c["capacity"] is not None and block in (c["near_block"], c["far_block"]) \
+                        and c["near_block"] != c["far_block"]:
+                    total += c["capacity"] * (axis if c["near_block"] == block else -axis)
+        elif b["head_block"] == block and b["anchor_block"] not in (None, block) and s.get("yield_force"):
+            total += s["yield_force"] * axis
     return total
 
 

@@ -11,9 +11,10 @@ use crate::assembly::{Assembler, DofMap, SparsityPattern};
 use crate::cover::pattern::parity;
 use crate::cover::{aggregation, Covers, MathMesh, PatternTable};
 use crate::element::bolt::BoltSpring;
+use crate::element::grout;
 use crate::element::{element_kernel, loads, penalty, ElementKernel, PointConstraint};
 use crate::error::{Error, Result};
-use crate::model::Geometry;
+use crate::model::{traverse, Geometry};
 use crate::scenario::{Scenario, Stiffness};
 
 /// Hydrostatic water pressure p = γ_w (table − up·x) on the wet boundary faces.
@@ -28,6 +29,9 @@ pub struct WaterLoad {
     /// MEs of the movable blocks with a boundary face.
     pub elements: Vec<usize>,
 }
+
+/// Bolt springs and each bolt's nodes.
+type BoltSprings = (Vec<BoltSpring>, Vec<Vec<BoltNode>>);
 
 /// Everything that does not change during a run.
 pub struct System {
@@ -59,8 +63,11 @@ pub struct System {
     pub cover_mass: Vec<f64>,
     /// Penalty points.
     pub constraints: Vec<PointConstraint>,
-    /// Rock bolts; bolt `k` is clique `elements + k` of the assembler.
+    /// Rock bolts' springs (an anchored bolt one, a grouted bolt one per joint it crosses);
+    /// spring `k` is clique `elements + k` of the assembler.
     pub bolts: Vec<BoltSpring>,
+    /// Each scenario bolt's nodes, for the frames.
+    pub bolt_paths: Vec<Vec<BoltNode>>,
     /// Penalty stiffness [N/m].
     pub penalty: f64,
     /// Half the largest model extent, w₀ of the displacement ratio [m].
@@ -94,7 +101,7 @@ impl System {
         let tied = aggregation::tie_ill_posed(&covers, &fixed_block, scenario.cover.aggregation_threshold);
         let fixed: Vec<bool> = covers.covers.iter().map(|c| fixed_block[c.block]).collect();
         let dofs = DofMap::new(&fixed, &tied);
-        let bolts = bolt_springs(&scenario, &geometry, &covers, label)?;
+        let (bolts, bolt_paths) = bolt_springs(&scenario, &geometry, &covers, label)?;
         let bolt_cliques: Vec<&[usize]> = bolts.iter().map(|b| b.covers.as_slice()).collect();
         let (assembler, mass_values) = pattern_and_mass(&covers, &dofs, &kernels, &kernel_of, &bolt_cliques);
         let max_young = geometry.materials.iter().map(|m| m.young).fold(0.0, f64::max);
@@ -108,6 +115,7 @@ impl System {
             cover_mass: vec![0.0; covers.covers.len()],
             constraints: Vec::new(),
             bolts,
+            bolt_paths,
             half_size: 0.5 * ext.max(),
             scenario,
             geometry,
@@ -271,19 +279,97 @@ fn locate(geometry: &Geometry, covers: &Covers, x: &Vec3) -> Option<(usize, usiz
     covers.locate(b, x, tol).map(|e| (b, e))
 }
 
-/// The scenario's bolts, each point located in its ME.
-fn bolt_springs(s: &Scenario, geometry: &Geometry, covers: &Covers, label: &str) -> Result<Vec<BoltSpring>> {
-    let point = |name: &str, key: &str, x: [f64; 3]| -> Result<(&[usize], Vec<f64>)> {
-        let x = Vec3::from(x);
-        let (_, e) = locate(geometry, covers, &x)
-            .ok_or_else(|| Error::input(label, format!("bolt.{name}.{key}"), "the point is not inside any block"))?;
+/// A point of a bolt drawn in the frames: its reference position, the covers of its ME and
+/// their weights there, and the spring whose forces it shows.
+#[derive(Debug, Clone)]
+pub struct BoltNode {
+    /// Reference position [m].
+    pub x: Vec3,
+    /// Covers of its ME.
+    pub covers: Vec<usize>,
+    /// Their weight-function values at `x`.
+    pub weights: Vec<f64>,
+    /// The spring whose forces it shows (none: a grouted bolt's ends, which carry nothing).
+    pub spring: Option<usize>,
+}
+
+/// The scenario's bolts as springs (an anchored bolt one, a grouted bolt one per joint it
+/// crosses) and, per bolt, its nodes for the frames.
+fn bolt_springs(s: &Scenario, geometry: &Geometry, covers: &Covers, label: &str) -> Result<BoltSprings> {
+    let tol = 1e-9 * covers.mesh.size;
+    let node = |block: usize, x: Vec3, spring: Option<usize>| -> Option<BoltNode> {
+        let e = covers.locate(block, &x, tol)?;
         let me = &covers.elements[e];
-        Ok((me.covers.as_slice(), loads::weights_at(covers, me, &x)))
+        Some(BoltNode { x, covers: me.covers.clone(), weights: loads::weights_at(covers, me, &x), spring })
     };
-    s.bolt
-        .iter()
-        .map(|b| Ok(BoltSpring::new(b, point(&b.name, "head", b.head)?, point(&b.name, "anchor", b.anchor)?)))
-        .collect()
+    let (mut springs, mut paths) = (Vec::new(), Vec::new());
+    for (i, b) in s.bolt.iter().enumerate() {
+        let (head, anchor) = (Vec3::from(b.head), Vec3::from(b.anchor));
+        let path = if b.grout.grouted {
+            let runs = traverse::runs(geometry, &head, &anchor, traverse::BOLT_SAMPLING * covers.mesh.size, tol);
+            grouted(i, b, &runs, &head, &anchor, &mut springs, &node)
+        } else {
+            let at = |key: &str, x: Vec3| {
+                let (blk, _) = locate(geometry, covers, &x).ok_or_else(|| {
+                    Error::input(label, format!("bolt.{}.{key}", b.name), "the point is not inside any block")
+                })?;
+                node(blk, x, Some(springs.len()))
+                    .ok_or_else(|| Error::input(label, format!("bolt.{}.{key}", b.name), "no element holds the point"))
+            };
+            let (h, a) = (at("head", head)?, at("anchor", anchor)?);
+            let law = grout::anchored_law(b);
+            springs.push(BoltSpring::new(
+                i,
+                (&h.covers, h.weights.clone()),
+                (&a.covers, a.weights.clone()),
+                head - anchor,
+                law,
+            ));
+            vec![h, a]
+        };
+        if path.is_empty() {
+            return Err(Error::input(
+                label,
+                format!("bolt.{}.head", b.name),
+                "the bolt does not pass through any block",
+            ));
+        }
+        paths.push(path);
+    }
+    Ok((springs, paths))
+}
+
+/// A grouted bolt's springs, one across each joint between two blocks it runs through (a void
+/// between them: none), appended to `springs`; its nodes (its ends in rock and its crossings).
+fn grouted(
+    i: usize,
+    b: &crate::scenario::Bolt,
+    runs: &[traverse::Run],
+    head: &Vec3,
+    anchor: &Vec3,
+    springs: &mut Vec<BoltSpring>,
+    node: &dyn Fn(usize, Vec3, Option<usize>) -> Option<BoltNode>,
+) -> Vec<BoltNode> {
+    let (len, axis) = ((anchor - head).norm(), anchor - head);
+    let x = |t: f64| head + axis * t;
+    let mut path = Vec::new();
+    let rock: Vec<(usize, &traverse::Run)> = runs.iter().filter_map(|r| r.block.map(|k| (k, r))).collect();
+    if let Some(n) = rock.first().and_then(|(k, r)| node(*k, x(r.from), None)) {
+        path.push(n);
+    }
+    for w in runs.windows(2) {
+        let (Some(ka), Some(kb)) = (w[0].block, w[1].block) else { continue };
+        let (Some(na), Some(nb)) = (node(ka, x(w[0].to), Some(springs.len())), node(kb, x(w[1].from), None)) else {
+            continue;
+        };
+        let law = grout::crossing_law(b, (w[0].to - w[0].from) * len, (w[1].to - w[1].from) * len);
+        springs.push(BoltSpring::new(i, (&nb.covers, nb.weights), (&na.covers, na.weights.clone()), axis, law));
+        path.push(na);
+    }
+    if let Some(n) = rock.last().and_then(|(k, r)| node(*k, x(r.to), None)) {
+        path.push(n);
+    }
+    path
 }
 
 /// The pattern of the elements and of the `extra` cliques (bolts, after the elements), and the

@@ -5,7 +5,8 @@
 use nmm3d_geom::{polygon, Aabb, Face, Vec3};
 use serde_json::{json, Value};
 
-use crate::model::{tags, Block, Geometry};
+use crate::element::grout;
+use crate::model::{tags, traverse, Block, Geometry};
 use crate::scenario::Scenario;
 
 /// Two faces touch when their planes are parallel to within this angle [rad] …
@@ -64,16 +65,39 @@ pub fn surfaces(scenario: &Scenario) -> Value {
         .map(|f| json!({ "normal": [f.normal.x, f.normal.y, f.normal.z], "set": f.spacing.is_some() }))
         .collect();
     let tol = 1e-9 * bounds.diagonal();
+    let cover_size = crate::model::estimate::cover_size(&scenario.cover, bounds.extent());
     let holding = |x: [f64; 3]| g.blocks.iter().position(|b| b.contains(&(Vec3::from(x) - o), tol));
     let bolts: Vec<Value> = scenario
         .bolt
         .iter()
-        .map(|b| json!({ "name": b.name, "head_block": holding(b.head), "anchor_block": holding(b.anchor) }))
+        .map(|b| {
+            let mut v = json!({ "name": b.name, "head_block": holding(b.head), "anchor_block": holding(b.anchor) });
+            if b.grout.grouted {
+                v["crossings"] = grouted_crossings(&g, b, cover_size, tol).into();
+            }
+            v
+        })
         .collect();
     json!({
         "blocks": blocks, "faces": faces, "features": features, "bolts": bolts,
         "bounds": { "min": xyz(bounds.min), "max": xyz(bounds.max) },
     })
+}
+
+/// The joints a grouted bolt crosses: the blocks on its head's and its anchor's side and the
+/// axial capacity there [N] (none: unlimited), as the run's springs have them.
+fn grouted_crossings(g: &Geometry, b: &crate::scenario::Bolt, cover_size: f64, tol: f64) -> Vec<Value> {
+    let (head, anchor) = (Vec3::from(b.head) - g.origin, Vec3::from(b.anchor) - g.origin);
+    let len = (anchor - head).norm();
+    let runs = traverse::runs(g, &head, &anchor, traverse::BOLT_SAMPLING * cover_size, tol);
+    runs.windows(2)
+        .filter_map(|w| {
+            let (near, far) = (w[0].block?, w[1].block?);
+            let law = grout::crossing_law(b, (w[0].to - w[0].from) * len, (w[1].to - w[1].from) * len);
+            let capacity = Some(law.yield_force).filter(|f| f.is_finite());
+            Some(json!({ "near_block": near, "far_block": far, "capacity": capacity }))
+        })
+        .collect()
 }
 
 /// The faces on the surface of each block (not the glue between its convex pieces).

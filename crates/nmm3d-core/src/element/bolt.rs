@@ -1,38 +1,66 @@
-//! An anchored bolt as an axial spring between two material points (its head and its anchor):
-//! the elongation δ = t·(u_head − u_anchor) along the bolt's unit axis t (anchor → head, in the
-//! reference configuration: small rotations), the tension F = P₀ + k (δ − δ_p) with δ_p the
-//! plastic elongation. Its local matrix is k (w wᵀ) ⊗ (t tᵀ) over the covers of both points, w the
-//! weight-function values, negative at the anchor (the same form as a contact spring, thesis §3.4).
+//! A bolt spring between two material points: for an anchored bolt its head and its anchor,
+//! for a grouted bolt the two faces of a joint it crosses (see `grout.rs`). The relative
+//! displacement Δ = Σ w_c u_c (w the weight-function values of the first point's covers minus
+//! those of the second's) splits along the bolt's unit axis t (second → first point, in the
+//! reference configuration: small rotations) into the elongation δ = t·Δ and the shear
+//! s = Δ − δ t. Tension F = P₀ + k_a (δ − δ_p), shear force V = k_s (s − s_p), each perfectly
+//! plastic at its capacity. Its local matrix is (w wᵀ) ⊗ (k_a t tᵀ + k_s (I − t tᵀ)) over the
+//! covers of both points (the form of a contact spring, thesis §3.4).
 
-use nmm3d_geom::Vec3;
+use nmm3d_geom::{Mat3, Vec3};
 
-use crate::scenario::Bolt;
+/// One point of a bolt: the covers of its ME and their weight-function values there.
+pub type BoltPoint<'a> = (&'a [usize], Vec<f64>);
 
-/// A bolt ready to assemble.
+/// A bolt spring ready to assemble.
 #[derive(Debug, Clone)]
 pub struct BoltSpring {
-    /// Covers of the head's and the anchor's MEs, each once.
+    /// The scenario's bolt (index into `scenario.bolt`) it belongs to.
+    pub bolt: usize,
+    /// Covers of both points' MEs, each once.
     pub covers: Vec<usize>,
-    /// Weight of each cover in the elongation: w_head − w_anchor.
+    /// Weight of each cover in Δ: w at the first point − w at the second.
     pub weights: Vec<f64>,
-    /// Unit axis, anchor → head.
+    /// Unit axis, second → first point.
     pub axis: Vec3,
     /// Axial stiffness [N/m].
     pub stiffness: f64,
+    /// Shear stiffness across the axis [N/m] (0: none).
+    pub shear_stiffness: f64,
     /// Tension at installation [N].
     pub pretension: f64,
-    /// Yield force [N] (∞: elastic).
+    /// Axial force at which it yields [N] (∞: elastic).
     pub yield_force: f64,
+    /// Shear force at which it yields [N] (∞: elastic).
+    pub shear_capacity: f64,
+    /// Elongation at rupture [m] (∞: never).
+    pub rupture: f64,
+}
+
+/// The stiffness and strength of a bolt spring: axial, shear, pretension, axial and shear
+/// capacities, rupture elongation.
+#[derive(Debug, Clone, Copy)]
+pub struct SpringLaw {
+    /// Axial stiffness [N/m].
+    pub stiffness: f64,
+    /// Shear stiffness [N/m].
+    pub shear_stiffness: f64,
+    /// Tension at installation [N].
+    pub pretension: f64,
+    /// Axial capacity [N] (∞: elastic).
+    pub yield_force: f64,
+    /// Shear capacity [N] (∞: elastic).
+    pub shear_capacity: f64,
     /// Elongation at rupture [m] (∞: never).
     pub rupture: f64,
 }
 
 impl BoltSpring {
-    /// From the scenario's bolt and the (covers, weights) of its head and anchor points.
-    pub fn new(b: &Bolt, head: (&[usize], Vec<f64>), anchor: (&[usize], Vec<f64>)) -> Self {
-        let mut covers: Vec<usize> = head.0.to_vec();
-        let mut weights = head.1;
-        for (&c, w) in anchor.0.iter().zip(anchor.1) {
+    /// Between `first` and `second`, along `axis` (second → first), with `law`, for bolt `bolt`.
+    pub fn new(bolt: usize, first: BoltPoint, second: BoltPoint, axis: Vec3, law: SpringLaw) -> Self {
+        let mut covers: Vec<usize> = first.0.to_vec();
+        let mut weights = first.1;
+        for (&c, w) in second.0.iter().zip(second.1) {
             match covers.iter().position(|&x| x == c) {
                 Some(i) => weights[i] -= w,
                 None => {
@@ -42,19 +70,33 @@ impl BoltSpring {
             }
         }
         Self {
+            bolt,
             covers,
             weights,
-            axis: (Vec3::from(b.head) - Vec3::from(b.anchor)).normalize(),
-            stiffness: b.stiffness,
-            pretension: b.pretension,
-            yield_force: b.yield_force.unwrap_or(f64::INFINITY),
-            rupture: b.rupture_elongation.unwrap_or(f64::INFINITY),
+            axis: axis.normalize(),
+            stiffness: law.stiffness,
+            shear_stiffness: law.shear_stiffness,
+            pretension: law.pretension,
+            yield_force: law.yield_force,
+            shear_capacity: law.shear_capacity,
+            rupture: law.rupture,
         }
+    }
+
+    /// Relative displacement Δ of the first point against the second for cover displacements
+    /// `u` [m].
+    pub fn relative(&self, u: &[Vec3]) -> Vec3 {
+        self.covers.iter().zip(&self.weights).map(|(&c, w)| *w * u[c]).sum()
     }
 
     /// Elongation for cover displacements `u` [m].
     pub fn elongation(&self, u: &[Vec3]) -> f64 {
-        self.covers.iter().zip(&self.weights).map(|(&c, w)| w * self.axis.dot(&u[c])).sum()
+        self.axis.dot(&self.relative(u))
+    }
+
+    /// Shear displacement (across the axis) of a relative displacement `d` [m].
+    pub fn shear_of(&self, d: &Vec3) -> Vec3 {
+        d - self.axis * self.axis.dot(d)
     }
 
     /// Tension at elongation `delta` with plastic elongation `plastic` [N].
@@ -62,17 +104,21 @@ impl BoltSpring {
         self.pretension + self.stiffness * (delta - plastic)
     }
 
-    /// The local matrix k (w wᵀ) ⊗ (t tᵀ), row-major (3n)².
-    pub fn local_matrix(&self) -> Vec<f64> {
+    /// The local matrix (w wᵀ) ⊗ (k_a t tᵀ + k_s (I − t tᵀ)), row-major (3n)², with the axial
+    /// or the shear part left out where it yields.
+    pub fn local_matrix(&self, axial: bool, shear: bool) -> Vec<f64> {
         let n = self.covers.len();
         let tt = self.axis * self.axis.transpose();
+        let ka = if axial { self.stiffness } else { 0.0 };
+        let ks = if shear { self.shear_stiffness } else { 0.0 };
+        let k3: Mat3 = tt * ka + (Mat3::identity() - tt) * ks;
         let mut m = vec![0.0; 9 * n * n];
         for a in 0..n {
             for b in 0..n {
-                let s = self.stiffness * self.weights[a] * self.weights[b];
+                let s = self.weights[a] * self.weights[b];
                 for i in 0..3 {
                     for j in 0..3 {
-                        m[(3 * a + i) * 3 * n + 3 * b + j] = s * tt[(i, j)];
+                        m[(3 * a + i) * 3 * n + 3 * b + j] = s * k3[(i, j)];
                     }
                 }
             }
@@ -81,22 +127,31 @@ impl BoltSpring {
     }
 }
 
-/// What a bolt has been through (part of the run's state).
+/// What a bolt spring has been through (part of the run's state).
 #[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct BoltState {
     /// Plastic elongation [m].
     pub plastic: f64,
+    /// Plastic shear displacement [m] (grouted bolts' dowel action).
+    #[serde(default)]
+    pub plastic_shear: Vec3,
     /// Broken: it carries nothing any more.
     pub broken: bool,
 }
 
 impl BoltState {
-    /// After an accepted step at elongation `delta`: yield (the tension returns to ±F_y by
-    /// plastic flow) and rupture.
-    pub fn update(&mut self, b: &BoltSpring, delta: f64) {
+    /// Shear force at relative displacement `d` before the capacity is applied [N].
+    pub fn trial_shear(&self, b: &BoltSpring, d: &Vec3) -> Vec3 {
+        (b.shear_of(d) - self.plastic_shear) * b.shear_stiffness
+    }
+
+    /// After an accepted step at relative displacement `d`: yield (the forces return to their
+    /// capacities by plastic flow) and rupture.
+    pub fn update(&mut self, b: &BoltSpring, d: &Vec3) {
         if self.broken {
             return;
         }
+        let delta = b.axis.dot(d);
         if delta >= b.rupture {
             self.broken = true;
             return;
@@ -105,6 +160,11 @@ impl BoltState {
         if f.abs() > b.yield_force {
             self.plastic += (f - f.signum() * b.yield_force) / b.stiffness;
         }
+        let v = self.trial_shear(b, d);
+        let m = v.norm();
+        if m > b.shear_capacity {
+            self.plastic_shear += v * ((m - b.shear_capacity) / (m * b.shear_stiffness));
+        }
     }
 }
 
@@ -112,17 +172,20 @@ impl BoltState {
 mod tests {
     use super::*;
 
-    fn bolt() -> BoltSpring {
-        let spec = Bolt {
-            name: "b".into(),
-            head: [0.0, 0.0, -1.0],
-            anchor: [0.0, 0.0, 1.0],
+    fn law() -> SpringLaw {
+        SpringLaw {
             stiffness: 1e6,
+            shear_stiffness: 2e6,
             pretension: 1e3,
-            yield_force: Some(5e3),
-            rupture_elongation: Some(0.02),
-        };
-        BoltSpring::new(&spec, (&[0, 1], vec![0.25, 0.75]), (&[1, 2], vec![0.5, 0.5]))
+            yield_force: 5e3,
+            shear_capacity: 4e3,
+            rupture: 0.02,
+        }
+    }
+
+    fn bolt() -> BoltSpring {
+        let axis = Vec3::new(0.0, 0.0, -2.0);
+        BoltSpring::new(0, (&[0, 1], vec![0.25, 0.75]), (&[1, 2], vec![0.5, 0.5]), axis, law())
     }
 
     #[test]
@@ -140,11 +203,37 @@ mod tests {
     fn it_yields_then_breaks() {
         let b = bolt();
         let mut s = BoltState::default();
-        s.update(&b, 0.002); // 1e3 + 2e3 = 3e3 < 5e3: elastic
+        let along = |d: f64| b.axis * d;
+        s.update(&b, &along(0.002)); // 1e3 + 2e3 = 3e3 < 5e3: elastic
         assert_eq!(s.plastic, 0.0);
-        s.update(&b, 0.01); // 1e3 + 1e4 = 1.1e4 > 5e3: yields back to 5e3
+        s.update(&b, &along(0.01)); // 1e3 + 1e4 = 1.1e4 > 5e3: yields back to 5e3
         assert!((b.tension(0.01, s.plastic) - 5e3).abs() < 1e-9);
-        s.update(&b, 0.02);
+        s.update(&b, &along(0.02));
         assert!(s.broken);
+    }
+
+    #[test]
+    fn the_dowel_yields_in_the_direction_of_shear() {
+        let b = bolt();
+        let mut s = BoltState::default();
+        let d = Vec3::new(0.003, 0.004, 0.0); // |s| = 5 mm: 1e4 N > 4e3 N
+        s.update(&b, &d);
+        let v = s.trial_shear(&b, &d);
+        assert!((v.norm() - 4e3).abs() < 1e-9);
+        assert!((v.normalize() - d.normalize()).norm() < 1e-12);
+        assert_eq!(s.plastic, 0.0, "shear alone does not stretch it");
+    }
+
+    #[test]
+    fn the_local_matrix_splits_axial_and_shear_stiffness() {
+        let b = bolt();
+        let m = b.local_matrix(true, true);
+        let n = 3 * b.covers.len();
+        // Cover 0 against itself: w² (k_s, k_s, k_a) on the diagonal (axis along z).
+        let w2 = 0.25 * 0.25;
+        assert!((m[0] - w2 * 2e6).abs() < 1e-6);
+        assert!((m[2 * n + 2] - w2 * 1e6).abs() < 1e-6);
+        let m = b.local_matrix(false, true);
+        assert!(m[2 * n + 2].abs() < 1e-9);
     }
 }

@@ -30,6 +30,7 @@ use crate::time::corotation;
 use nmm3d_geom::contact::Mode;
 
 const VTK_VERTEX: u8 = 1;
+const VTK_LINE: u8 = 3;
 const VTK_POLYHEDRON: u8 = 42;
 /// Vertices of one block closer than this fraction of the cover size are one point.
 const POINT_QUANTUM: f64 = 1e-9;
@@ -300,18 +301,81 @@ fn field_data(time: f64) -> String {
     )
 }
 
+/// The bolts' file of a frame, beside its blocks' file.
+pub fn bolts_file(blocks_file: &str) -> String {
+    blocks_file.replacen("blocks_", "bolts_", 1)
+}
+
 /// Write the `.pvd` collection of frames: (time, blocks file, contacts file) — part 0 the
-/// blocks, part 1 the contact points.
-pub fn write_pvd(path: &Path, frames: &[(f64, String, Option<String>)]) -> Result<()> {
+/// blocks, part 1 the contact points, part 2 the bolts (`bolts_file`, when `bolts`).
+pub fn write_pvd(path: &Path, frames: &[(f64, String, Option<String>)], bolts: bool) -> Result<()> {
     let mut s = String::from("<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n<Collection>\n");
     for (t, f, c) in frames {
         let _ = writeln!(s, "<DataSet timestep=\"{t}\" part=\"0\" file=\"{f}\"/>");
         if let Some(c) = c {
             let _ = writeln!(s, "<DataSet timestep=\"{t}\" part=\"1\" file=\"{c}\"/>");
         }
+        if bolts {
+            let _ = writeln!(s, "<DataSet timestep=\"{t}\" part=\"2\" file=\"{}\"/>", bolts_file(f));
+        }
     }
     s.push_str("</Collection>\n</VTKFile>\n");
     atomic::write(path, s.as_bytes())
+}
+
+/// Write the bolts of a frame: each bolt a chain of lines through its nodes (an anchored bolt's
+/// head and anchor; a grouted bolt's ends in rock and the joints it crosses) at their current
+/// positions, with the axial force, elongation and shear force of each node's spring (0 at a
+/// grouted bolt's ends), and per line its bolt's id and whether a spring of it broke. (Lines,
+/// not polylines: meshio reads no VTK_POLY_LINE.)
+pub fn write_bolts(sys: &System, state: &Motion, path: &Path) -> Result<()> {
+    let forces = crate::time::spring_forces(sys, state);
+    let (mut points, mut axial, mut elongation, mut shear) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let (mut ids, mut broken, mut lines) = (Vec::new(), Vec::new(), Vec::new());
+    for (i, path) in sys.bolt_paths.iter().enumerate() {
+        let snapped = sys.bolts.iter().zip(&state.bolts).any(|(b, s)| b.bolt == i && s.broken) as i64;
+        for (j, n) in path.iter().enumerate() {
+            if j > 0 {
+                lines.extend([points.len() as i32 - 1, points.len() as i32]);
+                ids.push(i as i64);
+                broken.push(snapped);
+            }
+            let u: Vec3 = n.covers.iter().zip(&n.weights).map(|(&c, w)| *w * state.u[c]).sum();
+            points.push(n.x + u + sys.geometry.origin);
+            let f = n.spring.map_or((0.0, 0.0, 0.0), |k| forces[k]);
+            axial.push(f.0);
+            elongation.push(f.1);
+            shear.push(f.2);
+        }
+    }
+    let mut bin = Appended::default();
+    let mut point_data = String::from("<PointData Scalars=\"axial_force\">\n");
+    bin.f64(&mut point_data, "axial_force", 1, &axial);
+    bin.f64(&mut point_data, "elongation", 1, &elongation);
+    bin.f64(&mut point_data, "shear_force", 1, &shear);
+    point_data.push_str("</PointData>\n");
+    let mut cell_data = String::from("<CellData Scalars=\"bolt_id\">\n");
+    bin.i64(&mut cell_data, "bolt_id", 1, &ids);
+    bin.i64(&mut cell_data, "broken", 1, &broken);
+    cell_data.push_str("</CellData>\n");
+    let (n, m) = (points.len(), ids.len());
+    let mut s = String::new();
+    s.push_str("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n");
+    let _ = writeln!(s, "<UnstructuredGrid>\n<FieldData>{}</FieldData>", field_data(state.time));
+    let _ = writeln!(s, "<Piece NumberOfPoints=\"{n}\" NumberOfCells=\"{m}\">");
+    s.push_str(&point_data);
+    s.push_str(&cell_data);
+    s.push_str("<Points>\n");
+    bin.vec3(&mut s, "Points", &points);
+    s.push_str("</Points>\n<Cells>\n");
+    bin.i32(&mut s, "connectivity", &lines);
+    bin.i32(&mut s, "offsets", &(1..=m as i32).map(|k| 2 * k).collect::<Vec<_>>());
+    bin.u8(&mut s, "types", &vec![VTK_LINE; m]);
+    s.push_str("</Cells>\n</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"base64\">\n_");
+    let mut out = s.into_bytes();
+    out.extend_from_slice(bin.data.as_bytes());
+    out.extend_from_slice(b"\n</AppendedData>\n</VTKFile>\n");
+    atomic::write(path, &out)
 }
 
 #[cfg(test)]

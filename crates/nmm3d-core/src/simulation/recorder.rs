@@ -104,9 +104,13 @@ impl Recorder {
             }
             None => None,
         };
+        let bolts = !sys.bolt_paths.is_empty();
+        if bolts {
+            vtu::write_bolts(sys, state, &self.out.join(vtu::bolts_file(&name)))?;
+        }
         self.frames.push((state.time, name, contact_name));
         self.last_frame_step = Some(state.step);
-        vtu::write_pvd(&self.out.join("result.pvd"), &self.frames)?;
+        vtu::write_pvd(&self.out.join("result.pvd"), &self.frames, bolts)?;
         self.history.write(&self.out)
     }
 

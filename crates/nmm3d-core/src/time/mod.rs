@@ -20,7 +20,7 @@ mod trial;
 mod vectors;
 mod water;
 
-pub use bolts::bolt_values;
+pub use bolts::{bolt_values, spring_forces};
 pub use cut::{Cut, CutReason};
 pub use energy::Energy;
 pub use integrator::Newmark;
