@@ -238,3 +238,26 @@ def test_key_block_held_by_a_grouted_bolt_counts_its_pull_out_capacity():
     assert b.mode.mode == "falling" and b.mode.factor_of_safety == pytest.approx(1e4 / W, rel=1e-7)
     [b] = nmm3d.keyblocks(GROUTED).blocks
     assert b.mode.factor_of_safety == pytest.approx(2.45e5 / W, rel=1e-9)
+
+
+def test_the_thesis_tunnel_bolt_pattern_is_the_one_the_key_block_module_designs():
+    """examples/tunnel_key_blocks_bolted.toml carries what design_bolt_pattern gives for its two
+    faces: the widest spacing at which both key blocks (FS 0.34 and 0.26 bare at φ = 8°) reach 1.5."""
+    bolted = nmm3d.load(EXAMPLE.parent / "tunnel_key_blocks_bolted.toml")
+    d = bolted.to_dict()
+    bars = {k: v for k, v in d["bolt"][0].items() if k not in ("name", "head", "anchor")}
+    bars.update(length=2.5)
+    faces = [dict(name="roof", start=[0.2, -0.8, 0.6], along=[7.6, 0.0, 0.0], across=[0.0, 1.6, 0.0],
+                  direction=[0.0, 0.0, 1.0], **bars),
+             dict(name="wall", start=[0.2, -0.5, -0.55], along=[7.6, 0.0, 0.0], across=[0.0, 0.0, 1.0],
+                  direction=[0.0, -1.0, 0.0], **bars)]
+    bare = dict(d, bolt=[])
+    design = nmm3d.design_bolt_pattern(nmm3d.Scenario.from_dict(bare), faces, target=1.5)
+    assert max(design.bare.values()) < 0.5 and min(design.supported.values()) >= 1.5
+    assert all(fs < 1.5 for s, fs in design.tried[:-1])  # the widest spacing that works
+    spelled = nmm3d.Scenario.from_dict(dict(bare, bolt_pattern=design.patterns)).to_dict()["bolt"]
+    assert len(spelled) == len(d["bolt"])
+    for got, want in zip(spelled, d["bolt"]):
+        assert got["name"] == want["name"]
+        assert got["head"] == pytest.approx(want["head"], abs=1e-9)
+        assert got["anchor"] == pytest.approx(want["anchor"], abs=1e-9)

@@ -27,6 +27,7 @@ CASES = {
     # Rock masses: the blocks are checked below; a short run with contact proves the scenario
     # runs end to end (the full runs take minutes).
     "tunnel_key_blocks.toml": ["analysis.duration=0.002"],
+    "tunnel_key_blocks_bolted.toml": ["analysis.duration=0.002"],
     "rock_slope.toml": ["analysis.duration=0.002"],
     "rock_slope_bollards.toml": ["analysis.duration=0.002"],
     # Contact: short runs (the full ones are in docs/verification.md).

@@ -9,6 +9,8 @@
 
 use nmm3d_geom::{Mat3, Vec3};
 
+use crate::scenario::Bolt;
+
 /// One point of a bolt: the covers of its ME and their weight-function values there.
 pub type BoltPoint<'a> = (&'a [usize], Vec<f64>);
 
@@ -53,6 +55,20 @@ pub struct SpringLaw {
     pub shear_capacity: f64,
     /// Elongation at rupture [m] (∞: never).
     pub rupture: f64,
+}
+
+impl SpringLaw {
+    /// An anchored bolt's: axial only, its free length's stiffness.
+    pub fn anchored(b: &Bolt) -> Self {
+        Self {
+            stiffness: b.stiffness.unwrap_or(0.0),
+            shear_stiffness: 0.0,
+            pretension: b.pretension,
+            yield_force: b.yield_force.unwrap_or(f64::INFINITY),
+            shear_capacity: f64::INFINITY,
+            rupture: b.rupture_elongation.unwrap_or(f64::INFINITY),
+        }
+    }
 }
 
 impl BoltSpring {

@@ -54,18 +54,6 @@ pub fn crossing_law(b: &Bolt, l1: f64, l2: f64) -> SpringLaw {
     }
 }
 
-/// The spring of anchored bolt `b`: axial only, its free length's stiffness.
-pub fn anchored_law(b: &Bolt) -> SpringLaw {
-    SpringLaw {
-        stiffness: b.stiffness.unwrap_or(0.0),
-        shear_stiffness: 0.0,
-        pretension: b.pretension,
-        yield_force: b.yield_force.unwrap_or(f64::INFINITY),
-        shear_capacity: f64::INFINITY,
-        rupture: b.rupture_elongation.unwrap_or(f64::INFINITY),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
