@@ -1,5 +1,5 @@
 //! The scenario file, version 1 (`docs/scenario.md`): typed, with defaults and units.
-//! Unknown keys are rejected. Semantic checks live in `validate.rs`.
+//! Unknown keys are rejected. Semantic checks live in `validate/`.
 
 mod controls;
 mod loads;
