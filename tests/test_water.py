@@ -1,6 +1,7 @@
 """Joint water pressure ([water]): hydrostatic pressure below a water table, against Archimedes
-(a run: every face below the table) and Hoek & Bray's planar factor of safety with the uplift U
-and the crack force V (the key-block analysis with drained free faces).
+(a run with every face below the table wet), the uplift on a drained block's base (a run with
+drained free faces) and Hoek & Bray's planar factor of safety with the uplift U and the crack
+force V (the key-block analysis with drained free faces).
 """
 
 from __future__ import annotations
@@ -100,9 +101,20 @@ def test_water_below_the_block_changes_nothing(tmp_path):
     assert sliding_acceleration(tmp_path / "wet", "water.table=-1.0") == pytest.approx(dry, rel=1e-12)
 
 
-def test_a_drained_run_is_refused_with_its_key(tmp_path):
-    with pytest.raises(nmm3d.ScenarioError, match="water.free_faces"):
-        nmm3d.load(INCLINE, ["water.table=0.15", 'water.free_faces="drained"']).run(out=tmp_path / "run")
+@pytest.mark.parametrize("table", [0.5, 1.0])
+def test_a_drained_block_slides_on_the_uplift_of_its_base_alone(tmp_path, table):
+    """free_faces = "drained": only the faces another block touches are wet — here the cube's
+    base, its open faces dry (Hoek & Bray's seepage face). The uplift U = γ_w A (h_w − h) on the
+    base takes off the normal force and grows as the base goes down the plane (h = −s sin ψ):
+    s'' = a₀ + k s, a₀ = g sin ψ − (g cos ψ − U₀/m) tan φ, k = γ_w A sin ψ tan φ / m, so
+    s = (a₀/k)(cosh √k t − 1). (Submerged, Archimedes would buoy the whole cube instead.)"""
+    r = nmm3d.load(INCLINE, [f"water.table={table}", 'water.free_faces="drained"']).run(out=tmp_path / "run")
+    psi, phi, m, gw, area = math.radians(PSI), math.radians(PHI), RHO * 1.0, 1000.0 * G, 1.0
+    a0 = G * math.sin(psi) - (G * math.cos(psi) - gw * area * table / m) * math.tan(phi)
+    k = gw * area * math.sin(psi) * math.tan(phi) / m
+    t = r.history["time"][-1]
+    assert math.hypot(*slide(r)) == pytest.approx(a0 / k * (math.cosh(math.sqrt(k) * t) - 1.0), rel=2e-3)
+    assert abs(slide(r)[1]) < 1e-3 * math.hypot(*slide(r))  # straight down the plane
 
 
 def test_key_block_with_uplift_on_its_base_is_hoek_and_bray():

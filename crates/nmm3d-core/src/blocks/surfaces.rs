@@ -2,27 +2,13 @@
 //! face of every block with its origin (joint, excavation, body face), its joint strength and
 //! the area of it that another block's face touches.
 
-use nmm3d_geom::{polygon, Aabb, Face, Vec3};
+use nmm3d_geom::{polygon, Face, Vec3};
 use serde_json::{json, Value};
 
 use crate::element::grout;
-use crate::model::{tags, traverse, Block, Geometry};
+use crate::model::touching::{self, boundary_faces, Surface, COINCIDENT_RATIO};
+use crate::model::{tags, traverse, Geometry};
 use crate::scenario::Scenario;
-
-/// Two faces touch when their planes are parallel to within this angle [rad] …
-const PARALLEL_ANGLE: f64 = 1e-4;
-/// … and coincide to within this fraction of the model's diagonal (the planes of bodies given
-/// separately by the user, e.g. a layer on its bedrock, agree only to their digits).
-const COINCIDENT_RATIO: f64 = 1e-6;
-
-/// One boundary face, ready to serialise.
-struct Surface<'a> {
-    block: usize,
-    face: &'a Face,
-    normal: Vec3,
-    area: f64,
-    aabb: Aabb,
-}
 
 /// Blocks, faces and features of the scenario's rock mass as JSON (see `python/nmm3d/block_theory.py`).
 pub fn surfaces(scenario: &Scenario) -> Value {
@@ -100,43 +86,15 @@ fn grouted_crossings(g: &Geometry, b: &crate::scenario::Bolt, cover_size: f64, t
         .collect()
 }
 
-/// The faces on the surface of each block (not the glue between its convex pieces).
-fn boundary_faces(blocks: &[Block]) -> Vec<Surface<'_>> {
-    let mut out = Vec::new();
-    for (k, b) in blocks.iter().enumerate() {
-        for f in b.pieces.iter().flat_map(|p| &p.faces).filter(|f| tags::is_boundary(f.tag)) {
-            let av = f.area_vector();
-            let area = av.norm();
-            if area > 0.0 {
-                let aabb = Aabb::from_points(&f.vertices).expect("a face has vertices");
-                out.push(Surface { block: k, face: f, normal: av / area, area, aabb });
-            }
-        }
-    }
-    out
-}
-
 /// Area of `s` touched by faces of other blocks lying on its plane and facing it, and the block
 /// touching most of it.
 fn touched_area(s: &Surface, all: &[Surface], diagonal: f64) -> (f64, Option<usize>) {
-    let tol = COINCIDENT_RATIO * diagonal;
-    let offset = s.normal.dot(&s.face.vertices[0]);
-    let grown = Aabb { min: s.aabb.min.add_scalar(-tol), max: s.aabb.max.add_scalar(tol) };
     let mut by_block: Vec<(usize, f64)> = Vec::new();
-    for o in all.iter().filter(|o| o.block != s.block && grown.overlaps(&o.aabb)) {
-        if s.normal.dot(&o.normal) > -PARALLEL_ANGLE.cos() || (o.normal.dot(&o.face.vertices[0]) + offset).abs() > tol {
-            continue;
-        }
-        // The other face, seen from this one's side: its vertices reversed, projected on this plane.
-        let other: Vec<Vec3> =
-            o.face.vertices.iter().rev().map(|v| v - s.normal * (s.normal.dot(v) - offset)).collect();
-        let common = polygon::intersect_convex(&s.face.vertices, &other, &s.normal, tol);
-        let a = if common.len() < 3 { 0.0 } else { polygon::area_vector(&common).norm() };
-        if a > 0.0 {
-            match by_block.iter_mut().find(|(b, _)| *b == o.block) {
-                Some(e) => e.1 += a,
-                None => by_block.push((o.block, a)),
-            }
+    for (o, common) in touching::touched(&s.face.vertices, &s.normal, s.block, all, COINCIDENT_RATIO * diagonal) {
+        let a = polygon::area_vector(&common).norm();
+        match by_block.iter_mut().find(|(b, _)| *b == o) {
+            Some(e) => e.1 += a,
+            None => by_block.push((o, a)),
         }
     }
     let total = by_block.iter().map(|(_, a)| a).sum::<f64>().min(s.area);

@@ -48,12 +48,14 @@ pub fn initial_stress(covers: &Covers, e: &ManifoldElement, s: &InSituStress) ->
 }
 
 /// Nodal forces of hydrostatic water pressure p = γ_w (table − h) on the parts of an ME's
-/// boundary faces below the water table, h = up·x the height along `up` (against gravity):
-/// f_a = −n ∫ w_a p dA per face (the pressure pushes into the block); `None` when no boundary
-/// face is wet.
-pub fn hydrostatic_forces(
+/// wet `faces` (cell-local polygons, outward by their vertex order: its boundary faces, or
+/// the parts of them other blocks touch) below the water table, h = up·x the height along `up`
+/// (against gravity): f_a = −n ∫ w_a p dA per face (the pressure pushes into the block);
+/// `None` when no face is wet.
+pub fn hydrostatic_forces<'a>(
     covers: &Covers,
     e: &ManifoldElement,
+    faces: impl Iterator<Item = &'a [Vec3]>,
     (table, up): (f64, Vec3),
     unit_weight: f64,
 ) -> Option<Vec<Vec3>> {
@@ -67,13 +69,13 @@ pub fn hydrostatic_forces(
     let exps = poly::all_exponents();
     let weights = covers.weights(e);
     let mut total: Option<Vec<Vec3>> = None;
-    for f in e.boundary_faces() {
-        let part = nmm3d_geom::polygon::clip_polygon_to(&f.vertices, &wet, 1e-12);
+    for f in faces {
+        let part = nmm3d_geom::polygon::clip_polygon_to(f, &wet, 1e-12);
         if part.len() < 3 {
             continue;
         }
         let m: [f64; TERMS] = integrate::polygon_moments(&part, &exps).try_into().expect("27 moments");
-        let n = (r * f.area_vector()).normalize();
+        let n = (r * nmm3d_geom::polygon::area_vector(f)).normalize();
         let forces = weights.iter().map(|w| -n * (w.mul(&pressure).integrate(&m) * sz * sz));
         total = Some(match total {
             None => forces.collect(),

@@ -6,6 +6,7 @@ pub mod estimate;
 pub mod material;
 pub mod shape;
 pub mod tags;
+pub mod touching;
 pub mod traverse;
 pub mod tunnel;
 pub mod union_find;

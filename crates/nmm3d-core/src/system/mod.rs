@@ -17,6 +17,7 @@ use crate::model::Geometry;
 use crate::scenario::{Scenario, Stiffness};
 
 mod bolts;
+mod water;
 
 pub use bolts::BoltNode;
 
@@ -29,8 +30,11 @@ pub struct WaterLoad {
     pub up: Vec3,
     /// γ_w = ρ_w g [N/m³].
     pub unit_weight: f64,
-    /// MEs of the movable blocks with a boundary face.
+    /// MEs of the movable blocks with a wet face.
     pub elements: Vec<usize>,
+    /// Drained free faces: each of `elements`' wet polygons (cell-local), the parts of its
+    /// boundary faces that other blocks touch; none: every boundary face (submerged).
+    pub wet: Option<Vec<Vec<Vec<Vec3>>>>,
 }
 
 /// Everything that does not change during a run.
@@ -189,13 +193,10 @@ impl System {
             }
         }
         if let Some(w) = self.scenario.water.clone() {
-            if w.free_faces == crate::scenario::FreeFaces::Drained {
-                let why = "a run puts the pressure on every face below the table (\"submerged\"); \"drained\" is taken by `nmm3d keyblocks` only, so far";
-                return Err(Error::input(label, "water.free_faces", why));
-            }
             let g = Vec3::from(self.scenario.analysis.gravity);
             if g.norm() > 0.0 {
-                self.add_water((w.table, -g.normalize()), w.density * g.norm());
+                let drained = w.free_faces == crate::scenario::FreeFaces::Drained;
+                self.add_water((w.table, -g.normalize()), w.density * g.norm(), drained);
             }
         }
         for (i, pl) in self.scenario.point_load.clone().iter().enumerate() {
@@ -234,14 +235,18 @@ impl System {
     /// Hydrostatic pressure below the water table (height along `table.1`, against gravity) on
     /// the boundary faces of the movable blocks (the fixed ones cannot move: their forces would
     /// go nowhere). A follower load: the stepper puts it on the faces as they have moved.
-    fn add_water(&mut self, (table, up): (f64, Vec3), unit_weight: f64) {
-        let elements = (0..self.covers.elements.len())
-            .filter(|&e| {
-                let me = &self.covers.elements[e];
-                !self.geometry.blocks[me.block].fixed && me.boundary_faces().next().is_some()
-            })
-            .collect();
-        self.water = Some(WaterLoad { table, up, unit_weight, elements });
+    fn add_water(&mut self, (table, up): (f64, Vec3), unit_weight: f64, drained: bool) {
+        let movable = |e: &usize| {
+            let me = &self.covers.elements[*e];
+            !self.geometry.blocks[me.block].fixed && me.boundary_faces().next().is_some()
+        };
+        let mut elements: Vec<usize> = (0..self.covers.elements.len()).filter(movable).collect();
+        let wet = drained.then(|| {
+            let all = water::wet_faces(&self.geometry, &self.covers, &elements);
+            elements = all.iter().filter(|(_, w)| !w.is_empty()).map(|(e, _)| *e).collect();
+            all.into_iter().filter(|(_, w)| !w.is_empty()).map(|(_, w)| w).collect()
+        });
+        self.water = Some(WaterLoad { table, up, unit_weight, elements, wet });
     }
 
     fn add_constraints(&mut self, label: &str) -> Result<()> {

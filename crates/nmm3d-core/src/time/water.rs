@@ -20,14 +20,23 @@ pub(super) fn add_water(sys: &System, state: &Motion, loads: &mut [Vec3]) {
     let forces: Vec<(usize, Vec<Vec3>)> = w
         .elements
         .par_iter()
-        .filter_map(|&e| {
+        .enumerate()
+        .filter_map(|(k, &e)| {
             let me = &sys.covers.elements[e];
             let r = state.rotations[e];
             let x0 = me.centroid(&sys.covers.mesh);
             let u: Vec3 = weights_at(&sys.covers, me, &x0).iter().zip(&me.covers).map(|(w, &c)| *w * state.u[c]).sum();
             let up = r.transpose() * w.up;
             let table = w.table - w.up.dot(&(x0 + u)) + up.dot(&x0);
-            let f = hydrostatic_forces(&sys.covers, me, (table, up), w.unit_weight)?;
+            let f = match &w.wet {
+                Some(wet) => {
+                    hydrostatic_forces(&sys.covers, me, wet[k].iter().map(|p| p.as_slice()), (table, up), w.unit_weight)
+                }
+                None => {
+                    let faces = me.boundary_faces().map(|f| f.vertices.as_slice());
+                    hydrostatic_forces(&sys.covers, me, faces, (table, up), w.unit_weight)
+                }
+            }?;
             Some((e, f.iter().map(|f| r * f).collect()))
         })
         .collect();

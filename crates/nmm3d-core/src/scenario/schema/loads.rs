@@ -109,8 +109,8 @@ pub enum FreeFaces {
     /// Under water too (a flooded excavation, a reservoir): the hydrostatic field everywhere.
     #[default]
     Submerged,
-    /// Drained (a seepage face, Hoek & Bray's slope face): pressure in the joints only.
-    /// Key-block analysis only, so far.
+    /// Drained (a seepage face, Hoek & Bray's slope face): pressure only where blocks touch
+    /// (the joints and the interfaces between bodies).
     Drained,
 }
 
