@@ -25,18 +25,8 @@ pub struct BoltSpring {
     pub weights: Vec<f64>,
     /// Unit axis, second → first point.
     pub axis: Vec3,
-    /// Axial stiffness [N/m].
-    pub stiffness: f64,
-    /// Shear stiffness across the axis [N/m] (0: none).
-    pub shear_stiffness: f64,
-    /// Tension at installation [N].
-    pub pretension: f64,
-    /// Axial force at which it yields [N] (∞: elastic).
-    pub yield_force: f64,
-    /// Shear force at which it yields [N] (∞: elastic).
-    pub shear_capacity: f64,
-    /// Elongation at rupture [m] (∞: never).
-    pub rupture: f64,
+    /// Its stiffness and strength.
+    pub law: SpringLaw,
 }
 
 /// The stiffness and strength of a bolt spring: axial, shear, pretension, axial and shear
@@ -45,7 +35,7 @@ pub struct BoltSpring {
 pub struct SpringLaw {
     /// Axial stiffness [N/m].
     pub stiffness: f64,
-    /// Shear stiffness [N/m].
+    /// Shear stiffness across the axis [N/m] (0: none).
     pub shear_stiffness: f64,
     /// Tension at installation [N].
     pub pretension: f64,
@@ -85,18 +75,7 @@ impl BoltSpring {
                 }
             }
         }
-        Self {
-            bolt,
-            covers,
-            weights,
-            axis: axis.normalize(),
-            stiffness: law.stiffness,
-            shear_stiffness: law.shear_stiffness,
-            pretension: law.pretension,
-            yield_force: law.yield_force,
-            shear_capacity: law.shear_capacity,
-            rupture: law.rupture,
-        }
+        Self { bolt, covers, weights, axis: axis.normalize(), law }
     }
 
     /// Relative displacement Δ of the first point against the second for cover displacements
@@ -117,7 +96,7 @@ impl BoltSpring {
 
     /// Tension at elongation `delta` with plastic elongation `plastic` [N].
     pub fn tension(&self, delta: f64, plastic: f64) -> f64 {
-        self.pretension + self.stiffness * (delta - plastic)
+        self.law.pretension + self.law.stiffness * (delta - plastic)
     }
 
     /// The local matrix (w wᵀ) ⊗ (k_a t tᵀ + k_s (I − t tᵀ)), row-major (3n)², with the axial
@@ -125,8 +104,8 @@ impl BoltSpring {
     pub fn local_matrix(&self, axial: bool, shear: bool) -> Vec<f64> {
         let n = self.covers.len();
         let tt = self.axis * self.axis.transpose();
-        let ka = if axial { self.stiffness } else { 0.0 };
-        let ks = if shear { self.shear_stiffness } else { 0.0 };
+        let ka = if axial { self.law.stiffness } else { 0.0 };
+        let ks = if shear { self.law.shear_stiffness } else { 0.0 };
         let k3: Mat3 = tt * ka + (Mat3::identity() - tt) * ks;
         let mut m = vec![0.0; 9 * n * n];
         for a in 0..n {
@@ -158,7 +137,7 @@ pub struct BoltState {
 impl BoltState {
     /// Shear force at relative displacement `d` before the capacity is applied [N].
     pub fn trial_shear(&self, b: &BoltSpring, d: &Vec3) -> Vec3 {
-        (b.shear_of(d) - self.plastic_shear) * b.shear_stiffness
+        (b.shear_of(d) - self.plastic_shear) * b.law.shear_stiffness
     }
 
     /// After an accepted step at relative displacement `d`: yield (the forces return to their
@@ -168,18 +147,19 @@ impl BoltState {
             return;
         }
         let delta = b.axis.dot(d);
-        if delta >= b.rupture {
+        let law = &b.law;
+        if delta >= law.rupture {
             self.broken = true;
             return;
         }
         let f = b.tension(delta, self.plastic);
-        if f.abs() > b.yield_force {
-            self.plastic += (f - f.signum() * b.yield_force) / b.stiffness;
+        if f.abs() > law.yield_force {
+            self.plastic += (f - f.signum() * law.yield_force) / law.stiffness;
         }
         let v = self.trial_shear(b, d);
         let m = v.norm();
-        if m > b.shear_capacity {
-            self.plastic_shear += v * ((m - b.shear_capacity) / (m * b.shear_stiffness));
+        if m > law.shear_capacity {
+            self.plastic_shear += v * ((m - law.shear_capacity) / (m * law.shear_stiffness));
         }
     }
 }

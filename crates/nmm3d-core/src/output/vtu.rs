@@ -251,23 +251,8 @@ pub fn write_contacts(sys: &System, state: &Motion, records: &[ContactRecord], p
     bin.i64(&mut point_data, "block_b", 1, &records.iter().map(|r| r.blocks.1 as i64).collect::<Vec<_>>());
     point_data.push_str("</PointData>\n");
     let n = points.len();
-    let mut s = String::new();
-    s.push_str("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n");
-    let _ = writeln!(s, "<UnstructuredGrid>\n<FieldData>{}</FieldData>", field_data(state.time));
-    let _ = writeln!(s, "<Piece NumberOfPoints=\"{n}\" NumberOfCells=\"{n}\">");
-    s.push_str(&point_data);
-    s.push_str("<Points>\n");
-    bin.vec3(&mut s, "Points", &points);
-    s.push_str("</Points>\n<Cells>\n");
-    let ids: Vec<i32> = (0..n as i32).collect();
-    bin.i32(&mut s, "connectivity", &ids);
-    bin.i32(&mut s, "offsets", &(1..=n as i32).collect::<Vec<_>>());
-    bin.u8(&mut s, "types", &vec![VTK_VERTEX; n]);
-    s.push_str("</Cells>\n</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"base64\">\n_");
-    let mut out = s.into_bytes();
-    out.extend_from_slice(bin.data.as_bytes());
-    out.extend_from_slice(b"\n</AppendedData>\n</VTKFile>\n");
-    atomic::write(path, &out)
+    let simple = SimpleCells { kind: VTK_VERTEX, connectivity: (0..n as i32).collect() };
+    atomic::write(path, &simple.write(state.time, &points, &mut bin, &point_data, ""))
 }
 
 /// Write the blocks (reference geometry) as polyhedral cells with `block_id`, `body_id`, `volume`.
@@ -358,24 +343,42 @@ pub fn write_bolts(sys: &System, state: &Motion, path: &Path) -> Result<()> {
     bin.i64(&mut cell_data, "bolt_id", 1, &ids);
     bin.i64(&mut cell_data, "broken", 1, &broken);
     cell_data.push_str("</CellData>\n");
-    let (n, m) = (points.len(), ids.len());
-    let mut s = String::new();
-    s.push_str("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n");
-    let _ = writeln!(s, "<UnstructuredGrid>\n<FieldData>{}</FieldData>", field_data(state.time));
-    let _ = writeln!(s, "<Piece NumberOfPoints=\"{n}\" NumberOfCells=\"{m}\">");
-    s.push_str(&point_data);
-    s.push_str(&cell_data);
-    s.push_str("<Points>\n");
-    bin.vec3(&mut s, "Points", &points);
-    s.push_str("</Points>\n<Cells>\n");
-    bin.i32(&mut s, "connectivity", &lines);
-    bin.i32(&mut s, "offsets", &(1..=m as i32).map(|k| 2 * k).collect::<Vec<_>>());
-    bin.u8(&mut s, "types", &vec![VTK_LINE; m]);
-    s.push_str("</Cells>\n</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"base64\">\n_");
-    let mut out = s.into_bytes();
-    out.extend_from_slice(bin.data.as_bytes());
-    out.extend_from_slice(b"\n</AppendedData>\n</VTKFile>\n");
-    atomic::write(path, &out)
+    let simple = SimpleCells { kind: VTK_LINE, connectivity: lines };
+    atomic::write(path, &simple.write(state.time, &points, &mut bin, &point_data, &cell_data))
+}
+
+/// Cells of one kind with the same number of points each (contact vertices, bolt lines).
+struct SimpleCells {
+    /// VTK cell type.
+    kind: u8,
+    /// Point indices, cell after cell.
+    connectivity: Vec<i32>,
+}
+
+impl SimpleCells {
+    /// The `.vtu` file of these cells on `points`, with the arrays already declared in
+    /// `point_data` and `cell_data` (their values in `bin`).
+    fn write(&self, time: f64, points: &[Vec3], bin: &mut Appended, point_data: &str, cell_data: &str) -> Vec<u8> {
+        let per = if self.kind == VTK_LINE { 2 } else { 1 };
+        let m = self.connectivity.len() / per;
+        let mut s = String::new();
+        s.push_str("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n");
+        let _ = writeln!(s, "<UnstructuredGrid>\n<FieldData>{}</FieldData>", field_data(time));
+        let _ = writeln!(s, "<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{m}\">", points.len());
+        s.push_str(point_data);
+        s.push_str(cell_data);
+        s.push_str("<Points>\n");
+        bin.vec3(&mut s, "Points", points);
+        s.push_str("</Points>\n<Cells>\n");
+        bin.i32(&mut s, "connectivity", &self.connectivity);
+        bin.i32(&mut s, "offsets", &(1..=m as i32).map(|k| per as i32 * k).collect::<Vec<_>>());
+        bin.u8(&mut s, "types", &vec![self.kind; m]);
+        s.push_str("</Cells>\n</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"base64\">\n_");
+        let mut out = s.into_bytes();
+        out.extend_from_slice(bin.data.as_bytes());
+        out.extend_from_slice(b"\n</AppendedData>\n</VTKFile>\n");
+        out
+    }
 }
 
 #[cfg(test)]

@@ -19,12 +19,12 @@ const YIELD_TOLERANCE: f64 = 1e-9;
 /// [N], shear force [N], axial elastic, shear elastic).
 fn forces(b: &BoltSpring, s: &BoltState, d: &Vec3) -> (f64, Vec3, bool, bool) {
     let tension = b.tension(b.axis.dot(d), s.plastic);
-    let axial = tension.abs() < b.yield_force * (1.0 - YIELD_TOLERANCE);
-    let tension = if axial { tension } else { tension.signum() * b.yield_force };
+    let axial = tension.abs() < b.law.yield_force * (1.0 - YIELD_TOLERANCE);
+    let tension = if axial { tension } else { tension.signum() * b.law.yield_force };
     let shear = s.trial_shear(b, d);
     let m = shear.norm();
-    let elastic = m < b.shear_capacity * (1.0 - YIELD_TOLERANCE);
-    let shear = if elastic { shear } else { shear * (b.shear_capacity / m) };
+    let elastic = m < b.law.shear_capacity * (1.0 - YIELD_TOLERANCE);
+    let shear = if elastic { shear } else { shear * (b.law.shear_capacity / m) };
     (tension, shear, axial, elastic)
 }
 
@@ -38,7 +38,7 @@ pub(super) fn add_bolts(sys: &System, state: &Motion, residual: &mut [Vec3], mut
         for (&c, w) in b.covers.iter().zip(&b.weights) {
             residual[c] -= *w * f;
         }
-        if let (true, Some(t)) = (axial || (elastic && b.shear_stiffness > 0.0), tangent.as_deref_mut()) {
+        if let (true, Some(t)) = (axial || (elastic && b.law.shear_stiffness > 0.0), tangent.as_deref_mut()) {
             sys.assembler.add(t, first + k, &b.local_matrix(axial, elastic));
         }
     }
