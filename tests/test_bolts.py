@@ -261,3 +261,13 @@ def test_the_thesis_tunnel_bolt_pattern_is_the_one_the_key_block_module_designs(
         assert got["name"] == want["name"]
         assert got["head"] == pytest.approx(want["head"], abs=1e-9)
         assert got["anchor"] == pytest.approx(want["anchor"], abs=1e-9)
+
+
+def test_a_bolt_design_that_cannot_reach_the_target_names_the_blocks():
+    """Bolts of 1 N cannot hold the hanging cube (W = 24.5 kN) at any spacing."""
+    d = nmm3d.load(EXAMPLE).to_dict()
+    d["bolt"], d["expect"] = [], []
+    face = dict(name="weak", start=[0.1, 0.1, -1.2], along=[0.8, 0.0, 0.0], across=[0.0, 0.8, 0.0],
+                direction=[0.0, 0.0, 1.0], length=2.0, head_depth=0.5, stiffness=1e7, yield_force=1.0)
+    with pytest.raises(ValueError, match=r"block \d+ \(FS 0\.00\)"):
+        nmm3d.design_bolt_pattern(nmm3d.Scenario.from_dict(d), [face], target=1.5, spacings=(1.0, 0.5))
