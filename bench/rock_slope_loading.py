@@ -226,7 +226,25 @@ def stable_section(stable: dict, args) -> list[str]:
         "The thesis's stable case (φ = 26.4°) does not stand in this geometry: its layer rests on a 35° bedrock "
         "surface.",
         "",
+        *key_block_table(stable),
     ]
+
+
+def key_block_table(stable: dict) -> list[str]:
+    """Each key block (larger than SLIVER) with block theory's critical angle and the NMM's bracket."""
+    le_of, rows, within = stable["le_of"], [], 0
+    for b in sorted(stable["blocks"], key=lambda b: b["id"]):
+        mode, phi_c = le_of.get(b["id"], ("no free face", None))
+        br = b["bracket"] or [None, None]
+        if phi_c is None or not math.isfinite(phi_c) or None in br:
+            continue
+        diff = 0.5 * (br[0] + br[1]) - phi_c
+        within += abs(diff) <= 1.0
+        rows.append(f"| {b['id']} | {b['volume']:.3f} | {mode} | {phi_c:.2f} | [{br[0]:.2f}, {br[1]:.2f}] | {diff:+.2f} |")
+    return [f"The key blocks one by one ({within} of {len(rows)} within 1° of block theory; a block held longer "
+            "than block theory says rests on blocks below it that hold — block theory judges each block alone):",
+            "", "| key block | volume [m³] | mode (block theory) | LE φc [°] | NMM bracket [°] | NMM − LE [°] |",
+            "|---:|---:|---|---:|---|---:|", *rows, ""]
 
 
 def crest(dry: dict, stable: dict) -> list[str]:
