@@ -241,8 +241,10 @@ def key_block_table(stable: dict) -> list[str]:
         diff = 0.5 * (br[0] + br[1]) - phi_c
         within += abs(diff) <= 1.0
         rows.append(f"| {b['id']} | {b['volume']:.3f} | {mode} | {phi_c:.2f} | [{br[0]:.2f}, {br[1]:.2f}] | {diff:+.2f} |")
-    return [f"The key blocks one by one ({within} of {len(rows)} within 1° of block theory; a block held longer "
-            "than block theory says rests on blocks below it that hold — block theory judges each block alone):",
+    return [f"The key blocks one by one ({within} of {len(rows)} within 1° of block theory). A positive difference "
+            "is a block the NMM moves at friction angles block theory says it holds at: it rests on blocks that slide "
+            "on the bedrock (35°) and goes with them, or the blocks above push it — block theory judges each block "
+            "alone:",
             "", "| key block | volume [m³] | mode (block theory) | LE φc [°] | NMM bracket [°] | NMM − LE [°] |",
             "|---:|---:|---|---:|---|---:|", *rows, ""]
 
