@@ -1,16 +1,17 @@
-"""Thesis rock slope, case D: bollards against the collapsing layer; writes
-docs/applications/rock-slope-barrier.md and docs/images/rock_slope_barrier.png.
+"""Thesis rock slope, cases A, B and D: the collapsing layer free, confined laterally, and against
+bollards; writes docs/applications/rock-slope-barrier.md and docs/images/rock_slope_barrier.png.
 
-Run: python bench/rock_slope_barrier.py [--duration 9]
+Run: python bench/rock_slope_barrier.py [--duration 9] [--only K] [--replot]
 
 `examples/rock_slope_bollards.toml` is the slope of `examples/rock_slope.toml` at φ = 10° (thesis
 case A, free collapse) with a row of eleven fixed bollards, 0.45 m wide and 1.7 m high, in the
 transition zone between the slope's toe (x = 14.28 m) and the road (x > 18 m). Both it and the
-same slope without the bollards run `--duration` seconds (the thesis ran 9 s). The answer a road
-engineer asks for: how many blocks, and what volume, end on the road with and without them. A
+same slope without the bollards (case A) and the slope confined between fixed side walls
+(`examples/rock_slope_confined.toml`, case B) run `--duration` seconds (the thesis ran 9 s). The
+answer a road engineer asks for: how many blocks, and what volume, end on the road. A
 block is on the road when the centroid of its final shape lies beyond x = 18 m, in the
 transition zone when it lies between the toe and there. Each case runs in its own process; the
-machine load is recorded.
+machine load is recorded. `--only K` runs case K alone and keeps the others' rows from `--rows`.
 """
 
 from __future__ import annotations
@@ -38,15 +39,18 @@ def where(b: dict) -> str:
     if not (0.0 <= b["y"] <= WIDTH) or b["z"] < GROUND - 1.0:
         return "off"
     return "road" if b["x"] > ROAD else "held"
-CASES = [("without bollards (case A)", False), ("with bollards (case D)", True)]
+CONFINED = ROOT / "examples" / "rock_slope_confined.toml"
+CASES = [("without bollards (case A)", "A"), ("laterally confined (case B)", "B"), ("with bollards (case D)", "D")]
 
 
-def scenario(bollards: bool, duration: float):
+def scenario(case: str, duration: float):
+    """Case "A" (free), "B" (confined) or "D" (bollards)."""
     import nmm3d
 
-    data = nmm3d.load(EXAMPLE, [f"analysis.duration={duration}", "analysis.output_interval=1.0"]).to_dict()
+    path = CONFINED if case == "B" else EXAMPLE
+    data = nmm3d.load(path, [f"analysis.duration={duration}", "analysis.output_interval=1.0"]).to_dict()
     data.pop("expect", None)
-    if not bollards:
+    if case == "A":
         data["body"] = [b for b in data["body"] if not b["name"].startswith("bollard")]
     return nmm3d.Scenario.from_dict(data)
 
@@ -79,8 +83,8 @@ def final_blocks(out: Path) -> list[dict]:
     return rows
 
 
-def run_case(bollards: bool, duration: float, out: str) -> dict:
-    r = scenario(bollards, duration).run(out=out)
+def run_case(case: str, duration: float, out: str) -> dict:
+    r = scenario(case, duration).run(out=out)
     s = r.summary
     keys = ("status", "steps", "step_cuts", "wall_seconds", "max_penetration", "energy", "manifold_elements")
     row = {k: s.get(k) for k in keys}
@@ -109,9 +113,12 @@ def plot(rows: list[tuple[str, dict]], path: Path) -> None:
         ax.axvline(ROAD, color="k", lw=1)
         ax.text(TOE, 10.2, " toe", fontsize=8)
         ax.text(ROAD, 10.2, " road", fontsize=8)
-        if "with" in title and "without" not in title:
+        if "case D" in title:
             for k in range(11):
                 ax.add_patch(Rectangle((16.5, 0.225 + 0.9 * k), 0.45, 0.45, color="0.3"))
+        if "case B" in title:
+            for y0 in (2.0, 7.0):
+                ax.add_patch(Rectangle((2.0, y0), TOE - 2.0, 1.0, color="0.75"))
         ax.set_title(f"{title}: {int(on_road.sum())} blocks, {v[on_road].sum():.2f} m³ on the road "
                      f"({int((~inside).sum())} off the model)", fontsize=9)
         ax.set_xlabel("x [m] (east, down the slope)")
@@ -132,19 +139,29 @@ def main() -> None:
     p.add_argument("--rows", type=Path, default=Path(tempfile.gettempdir()) / "rock_slope_barrier_rows.json",
                    help="where the runs' results are kept (read back with --replot)")
     p.add_argument("--replot", action="store_true", help="write the page and figure from --rows without running")
+    p.add_argument("--only", type=int, help="run only case K (0 A, 1 B, 2 D); the others' rows from --rows")
     args = p.parse_args()
     if args.case is not None:
         print(json.dumps(run_case(CASES[args.case][1], args.duration, args.out)))
         return
-    rows = json.loads(args.rows.read_text()) if args.replot else run_all(args.duration)
+    if args.replot:
+        rows = json.loads(args.rows.read_text())
+    elif args.only is not None:
+        kept = dict(json.loads(args.rows.read_text())) if args.rows.exists() else {}
+        kept.update(run_all(args.duration, [args.only]))
+        rows = [(title, kept[title]) for title, _ in CASES if title in kept]
+    else:
+        rows = run_all(args.duration)
     args.rows.write_text(json.dumps(rows))
     write(rows, args.duration)
 
 
-def run_all(duration: float) -> list:
+def run_all(duration: float, only: list[int] | None = None) -> list:
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         for k, (title, _) in enumerate(CASES):
+            if only is not None and k not in only:
+                continue
             load = os.getloadavg()[0]
             cmd = [sys.executable, __file__, "--case", str(k), "--duration", str(duration), "--out",
                    str(Path(tmp) / f"case{k}")]
@@ -159,8 +176,9 @@ def run_all(duration: float) -> list:
 def write(rows: list, duration: float) -> None:
     images = ROOT / "docs" / "images"
     plot(rows, images / "rock_slope_barrier.png")
-    lines = ["# Rock slope, case D: bollards in the transition zone", "",
-             f"Produced by `python bench/rock_slope_barrier.py --duration {duration:g}` "
+    lines = ["# Rock slope, cases A, B and D: free, confined, and bollards in the transition zone", "",
+             f"Produced by `python bench/rock_slope_barrier.py --duration {duration:g}` (a case rerun alone with "
+             "`--only K` keeps the others' rows; each row records its own load) "
              f"({platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}; do not edit by "
              "hand). Thesis Part 5, case D: \"a group of concrete columns (bollards) with a width of 450 mm and a "
              "height of 1700 mm are set at the transition zone between the highway and the potential failure "
@@ -170,7 +188,11 @@ def write(rows: list, duration: float) -> None:
              "on the 35° slope) at φ = 10° (case A, free collapse) against eleven fixed bollards, 0.45 × 0.45 × "
              "1.7 m, at x = 16.5–16.95 m, 0.45 m apart across the 10 m wide model (the thesis gives their size "
              "and place, not their spacing; no wire netting, as in the thesis). Without bollards: the same file "
-             "with them removed. A block is *on the road* when the centroid of its final shape lies beyond "
+             "with them removed (case A: \"free sliding without lateral constraints\"). Case B "
+             "(`examples/rock_slope_confined.toml`): case A with the rock continuing beyond the layer's two sides "
+             "as fixed walls 1 m thick along the slope to its toe, which the blocks rub against with the joints' "
+             "friction — the lateral condition the thesis compares A with (its case B is not described further in "
+             "the summary we have). A block is *on the road* when the centroid of its final shape lies beyond "
              f"x = {ROAD:g} m, *held* otherwise (on the slope or in the transition zone between the toe, "
              f"x = {TOE:.2f} m, and the road).", "",
              "| case | blocks on the road | their volume [m³] | largest there [m³] | blocks held | off the model "

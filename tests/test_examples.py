@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 import nmm3d
@@ -29,6 +30,7 @@ CASES = {
     "tunnel_key_blocks.toml": ["analysis.duration=0.002"],
     "tunnel_key_blocks_bolted.toml": ["analysis.duration=0.002"],
     "rock_slope.toml": ["analysis.duration=0.002"],
+    "rock_slope_confined.toml": ["analysis.duration=0.002"],
     "rock_slope_bollards.toml": ["analysis.duration=0.002"],
     # Contact: short runs (the full ones are in docs/verification.md).
     "incline.toml": ["analysis.duration=0.3"],
@@ -162,8 +164,18 @@ def test_thesis_tunnel_has_a_roof_and_a_side_wall_key_block():
     assert 0.01 < wall[0].volume < roof[0].volume < 0.5
 
 
+def test_case_b_confines_the_case_a_layer_without_cutting_the_walls():
+    """Case B is case A's layer (the same blocks) between two fixed walls the joints do not cut."""
+    a, b = (nmm3d.load(EXAMPLES / f).blocks() for f in ("rock_slope.toml", "rock_slope_confined.toml"))
+    la, lb = a["body"] == "layer", b["body"] == "layer"
+    assert la.sum() == lb.sum() and sorted(a["volume"][la]) == pytest.approx(sorted(b["volume"][lb]), rel=1e-9)
+    walls = np.isin(b["body"], ["wall_south", "wall_north"])
+    assert walls.sum() == 2 and b["fixed"][walls].all()
+    assert nmm3d.load(EXAMPLES / "rock_slope_confined.toml").to_dict()["joint"][0]["friction_angle"] == 10.0
+
+
 def test_rock_mass_examples_run(results):
-    for name in ("tunnel_key_blocks.toml", "rock_slope.toml"):
+    for name in ("tunnel_key_blocks.toml", "rock_slope.toml", "rock_slope_confined.toml"):
         assert results[name].completed, results[name].summary["message"]
         assert results[name].summary["blocks"] > 20
 
