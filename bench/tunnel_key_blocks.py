@@ -153,7 +153,6 @@ def frames(out: Path, ids: dict[str, int], times: list[float], d: dict, path: Pa
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     import meshio
-    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
     import re
 
@@ -161,31 +160,39 @@ def frames(out: Path, ids: dict[str, int], times: list[float], d: dict, path: Pa
     pvd = (out / "result.pvd").read_text()
     found = re.findall(r'timestep="([^"]+)" part="0" file="([^"]+)"', pvd)
     stamps, files = [float(t) for t, _ in found], [out / f for _, f in found]
-    half, floor, crown = tunnel_profile(d)
     fig = plt.figure(figsize=(3.6 * len(times), 4.2))
     for n, t in enumerate(times):
         k = int(np.argmin([abs(s - t) for s in stamps]))
-        mesh = meshio.read(files[k])
-        ids_of = np.concatenate(mesh.cell_data["block_id"])
-        cells = [c for block in mesh.cells for c in block.data]
         ax = fig.add_subplot(1, len(times), n + 1, projection="3d")
-        for name, b in ids.items():
-            polys = []
-            for c in np.flatnonzero(ids_of == b):
-                for face in cells[c]:
-                    polys.append(mesh.points[np.asarray(face, dtype=int)])
-            ax.add_collection3d(Poly3DCollection(polys, facecolor=COLOURS[name], edgecolor="none", alpha=0.9))
-        outline(ax, d, half, floor, crown)
+        key_blocks(ax, meshio.read(files[k]), ids, alpha=0.9)
         ax.set_title(f"t = {stamps[k]:.2f} s", fontsize=9)
-        ax.set_xlim(X_VIEW[0], X_VIEW[1])
-        ax.set_ylim(-2.0, 2.0)
-        ax.set_zlim(floor - 0.2, crown + 1.0)
-        ax.set_box_aspect((X_VIEW[1] - X_VIEW[0], 4.0, crown - floor + 1.2))
-        ax.view_init(elev=12, azim=-60)
-        ax.set_axis_off()
+        tunnel_view(ax, d, half_width=2.0, above=1.0, elev=12)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+def key_blocks(ax, mesh, ids: dict[str, int], alpha: float) -> None:
+    """The key blocks of a frame (a meshio mesh), each in its colour."""
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    ids_of = np.concatenate(mesh.cell_data["block_id"])
+    cells = [c for block in mesh.cells for c in block.data]
+    for name, b in ids.items():
+        polys = [mesh.points[np.asarray(face, dtype=int)] for c in np.flatnonzero(ids_of == b) for face in cells[c]]
+        ax.add_collection3d(Poly3DCollection(polys, facecolor=COLOURS[name], edgecolor="none", alpha=alpha))
+
+
+def tunnel_view(ax, d: dict, half_width: float, above: float, elev: float) -> None:
+    """The tunnel's outline over X_VIEW, ±`half_width` across and up to `above` over the crown [m]."""
+    half, floor, crown = tunnel_profile(d)
+    outline(ax, d, half, floor, crown)
+    ax.set_xlim(X_VIEW[0], X_VIEW[1])
+    ax.set_ylim(-half_width, half_width)
+    ax.set_zlim(floor - 0.2, crown + above)
+    ax.set_box_aspect((X_VIEW[1] - X_VIEW[0], 2.0 * half_width, crown - floor + above + 0.2))
+    ax.view_init(elev=elev, azim=-60)
+    ax.set_axis_off()
 
 
 def outline(ax, d: dict, half: float, floor: float, crown: float) -> None:
@@ -232,7 +239,7 @@ def bolt_picture(out: Path, ids: dict[str, int], d: dict, path: Path) -> float:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     import meshio
-    from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
+    from mpl_toolkits.mplot3d.art3d import Line3DCollection
 
     last = sorted((out / "frames").glob("bolts_*.vtu"))[-1]
     bars = meshio.read(last)
@@ -241,27 +248,16 @@ def bolt_picture(out: Path, ids: dict[str, int], d: dict, path: Path) -> float:
     lines = np.concatenate([c.data for c in bars.cells])
     seg_force = force[lines].max(axis=1)
     top = float(force.max())
-    half, floor, crown = tunnel_profile(d)
     fig = plt.figure(figsize=(7.5, 5.0))
     ax = fig.add_subplot(1, 1, 1, projection="3d")
-    ids_of = np.concatenate(blocks.cell_data["block_id"])
-    cells = [c for block in blocks.cells for c in block.data]
-    for name, b in ids.items():
-        polys = [blocks.points[np.asarray(face, dtype=int)] for c in np.flatnonzero(ids_of == b) for face in cells[c]]
-        ax.add_collection3d(Poly3DCollection(polys, facecolor=COLOURS[name], edgecolor="none", alpha=0.6))
+    key_blocks(ax, blocks, ids, alpha=0.6)
     norm = matplotlib.colors.Normalize(0.0, max(top, 1.0) / 1e3)
     segs = bars.points[lines]
     keep = (segs[:, :, 0].min(axis=1) >= X_VIEW[0] - 0.1)
     lc = Line3DCollection(segs[keep], cmap="viridis", norm=norm, linewidths=2.0)
     lc.set_array(seg_force[keep] / 1e3)
     ax.add_collection3d(lc)
-    outline(ax, d, half, floor, crown)
-    ax.set_xlim(X_VIEW[0], X_VIEW[1])
-    ax.set_ylim(-3.0, 3.0)
-    ax.set_zlim(floor - 0.2, crown + 2.2)
-    ax.set_box_aspect((X_VIEW[1] - X_VIEW[0], 6.0, crown - floor + 2.4))
-    ax.view_init(elev=14, azim=-60)
-    ax.set_axis_off()
+    tunnel_view(ax, d, half_width=3.0, above=2.2, elev=14)
     fig.colorbar(lc, ax=ax, shrink=0.6, label="axial force at the joint [kN]")
     ax.set_title(f"φ = {PHI_FAIL:g}° with the designed grouted bars, t = {float(bars.field_data['TimeValue'][0]):.2f} s",
                  fontsize=9)
@@ -319,13 +315,12 @@ def bolted(ids: dict[str, int], args, tmp: Path) -> dict:
     """The bolted tunnel at φ = 8°: the key blocks' factors of safety bare and bolted (the
     key-block module on the example with and without its bars) and the run."""
     d = nmm3d.load(BOLTED).to_dict()
-    bare = {b.id: b.mode.factor_of_safety for b in nmm3d.keyblocks(nmm3d.Scenario.from_dict(dict(d, bolt=[]))).blocks}
-    held = {b.id: b.mode.factor_of_safety for b in nmm3d.keyblocks(BOLTED).blocks}
+    fs = lambda data: {b.id: b.mode.factor_of_safety for b in nmm3d.keyblocks(nmm3d.Scenario.from_dict(data)).blocks}  # noqa: E731
+    bars = d["bolt"]
     run = reused_or_run(d, ids, args.duration, tmp / "bolted", args.reuse_run)
     top = bolt_picture(tmp / "bolted", ids, d, IMAGES / "tunnel_key_blocks_bolted.png")
-    pattern = [p for p in nmm3d.load(BOLTED).to_dict().get("bolt", [])]
-    return {"bare": bare, "held": held, "run": run, "top": top, "bars": len(pattern),
-            "capacity": min(p.get("yield_force") or math.inf for p in pattern), "bond": pattern[0].get("bond_strength")}
+    return {"bare": fs(dict(d, bolt=[])), "held": fs(d), "run": run, "top": top, "bars": len(bars),
+            "capacity": min(b.get("yield_force") or math.inf for b in bars), "bond": bars[0].get("bond_strength")}
 
 
 def bolted_section(key: dict, b: dict, bare_run: dict) -> list[str]:
