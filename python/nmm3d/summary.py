@@ -101,6 +101,26 @@ class ResumedFrom:
 
 
 @dataclass(frozen=True)
+class StageSummary:
+    """One stage of a staged analysis as it ran (a row of ``stages.csv``)."""
+
+    name: str
+    status: Status
+    message: str
+    #: simulated time at the stage's start and end [s]
+    start_time: float
+    end_time: float
+    #: accepted steps before the stage and at its end
+    start_step: int
+    end_step: int
+    #: blocks of the stage's model
+    blocks: int
+    unbalanced_force_ratio: float | None
+    #: wall-clock seconds, building the stage's model included
+    wall_seconds: float
+
+
+@dataclass(frozen=True)
 class RunSummary:
     """Contents of ``summary.json``; ``None`` where a run could not define a value."""
 
@@ -141,6 +161,9 @@ class RunSummary:
     checks: list[Check]
     initial_equilibrium: InitialEquilibrium | None = None
     resumed_from: ResumedFrom | None = None
+    #: the stages of a staged analysis; the counters and timings above are the last stage's
+    #: model's, ``steps`` and ``time`` the whole run's
+    stages: list[StageSummary] = dataclasses.field(default_factory=list)
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> RunSummary:

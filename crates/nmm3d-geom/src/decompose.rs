@@ -57,6 +57,19 @@ pub fn subtract_convex(
     hole_tag: impl Fn(usize) -> FaceTag,
     tags: NewFaceTags,
 ) -> Option<Vec<ConvexPolyhedron>> {
+    split_by_convex(piece, hole, hole_tag, tags).map(|(outside, _)| outside)
+}
+
+/// `piece` split by the convex `hole` into the pieces outside it and those inside (`None` if
+/// untouched): the same cells [`subtract_convex`] keeps, and their complement, so the two
+/// together are the piece exactly. New faces on a hole plane get `hole_tag(k)` where the other
+/// side lies beyond the hole's surface, `tags.glue` where a piece of the same side does.
+pub fn split_by_convex(
+    piece: &ConvexPolyhedron,
+    hole: &ConvexPolyhedron,
+    hole_tag: impl Fn(usize) -> FaceTag,
+    tags: NewFaceTags,
+) -> Option<(Vec<ConvexPolyhedron>, Vec<ConvexPolyhedron>)> {
     if !piece.aabb().overlaps(&hole.aabb()) {
         return None;
     }
@@ -68,16 +81,14 @@ pub fn subtract_convex(
     let touched = cells.len() > 1;
     let eps = CLIP_TOLERANCE * piece.aabb().diagonal().max(hole.aabb().diagonal());
     let in_hole = |x: &Vec3| planes.iter().all(|p| p.signed_distance(x) < -eps);
-    let inside_count = cells.iter().filter(|c| in_hole(&c.centroid())).count();
-    if !touched && inside_count == 0 {
+    let (inside, outside): (Vec<_>, Vec<_>) = cells.into_iter().partition(|c| in_hole(&c.centroid()));
+    if !touched && inside.is_empty() {
         return None;
     }
-    let kept: Vec<ConvexPolyhedron> = cells
-        .into_iter()
-        .filter(|c| !in_hole(&c.centroid()))
-        .map(|c| retag_new_faces(c, &planes, &in_hole, &hole_tag, tags.glue))
-        .collect();
-    Some(kept)
+    let out_hole = |x: &Vec3| !in_hole(x);
+    let outside = outside.into_iter().map(|c| retag_new_faces(c, &planes, &in_hole, &hole_tag, tags.glue)).collect();
+    let inside = inside.into_iter().map(|c| retag_new_faces(c, &planes, &out_hole, &hole_tag, tags.glue)).collect();
+    Some((outside, inside))
 }
 
 /// Split every cell the plane crosses.
@@ -125,11 +136,12 @@ fn retag_sides(mut c: ConvexPolyhedron, inside: impl Fn(&Vec3) -> bool, glue: Fa
     c
 }
 
-/// Faces created on the hole's planes: hole surface where the hole lies beyond, glue elsewhere.
+/// Faces created on the hole's planes: hole surface where the other side (`beyond_other`) lies
+/// beyond, glue elsewhere.
 fn retag_new_faces(
     mut c: ConvexPolyhedron,
     planes: &[Plane],
-    in_hole: &impl Fn(&Vec3) -> bool,
+    beyond_other: &impl Fn(&Vec3) -> bool,
     hole_tag: &impl Fn(usize) -> FaceTag,
     glue: FaceTag,
 ) -> ConvexPolyhedron {
@@ -138,7 +150,7 @@ fn retag_new_faces(
         if let Some(k) = (0..planes.len()).find(|&k| f.tag == hole_tag(k)) {
             let n = f.area_vector().normalize();
             let beyond = polygon::centroid(&f.vertices) + probe * n;
-            f.tag = if in_hole(&beyond) { hole_tag(k) } else { glue };
+            f.tag = if beyond_other(&beyond) { hole_tag(k) } else { glue };
             let _ = planes[k];
         }
     }
@@ -204,5 +216,27 @@ mod tests {
             GLUE
         )
         .is_none());
+    }
+
+    #[test]
+    fn the_inside_of_a_hole_complements_what_subtraction_keeps() {
+        let block = ConvexPolyhedron::from_box(Vec3::zeros(), Vec3::new(4.0, 2.0, 2.0));
+        let hole = ConvexPolyhedron::from_box(Vec3::new(1.0, -1.0, 0.5), Vec3::new(2.0, 3.0, 1.5));
+        let (outside, inside) = split_by_convex(&block, &hole, |k| FaceTag(100 + k as u32), GLUE).unwrap();
+        let vol = |v: &[ConvexPolyhedron]| v.iter().map(|p| p.volume()).sum::<f64>();
+        assert!((vol(&inside) - 2.0).abs() < 1e-12 && (vol(&outside) - 14.0).abs() < 1e-12);
+        // The plug's surface against the rock is the tunnel wall (8 m²); its two ends lie on the
+        // block's own faces (y = 0, 2) and keep their tags.
+        let wall: f64 = inside
+            .iter()
+            .flat_map(|p| p.faces.iter())
+            .filter(|f| (100..106).contains(&f.tag.0))
+            .map(|f| f.area())
+            .sum();
+        assert!((wall - 8.0).abs() < 1e-12, "{wall}");
+        // A piece wholly inside is all plug.
+        let small = ConvexPolyhedron::from_box(Vec3::new(1.2, 0.2, 0.7), Vec3::new(1.8, 0.8, 1.3));
+        let (outside, inside) = split_by_convex(&small, &hole, |k| FaceTag(100 + k as u32), GLUE).unwrap();
+        assert!(outside.is_empty() && (vol(&inside) - 0.216).abs() < 1e-12);
     }
 }

@@ -290,7 +290,21 @@ fn piece_points(
 }
 
 /// The joint between two blocks: an interface naming both bodies, else A's body joint, else B's.
+/// Until its stage removes it, the rock filling an excavation is intact rock with the rock
+/// around it: bonded beyond any load it meets (no slip, no opening), with the contact penalty.
+static INTACT: std::sync::LazyLock<Joint> = std::sync::LazyLock::new(|| Joint {
+    name: "intact rock (an excavation's plug)".into(),
+    friction_angle: 89.0,
+    cohesion: 1e15,
+    tensile_strength: 1e15,
+    normal_stiffness: None,
+    shear_stiffness: None,
+});
+
 fn joint_between(sys: &System, a: usize, b: usize) -> Option<&Joint> {
+    if sys.geometry.blocks[a].excavation != sys.geometry.blocks[b].excavation {
+        return Some(&INTACT);
+    }
     let s = &sys.scenario;
     let (ba, bb) = (&s.body[sys.geometry.blocks[a].body].name, &s.body[sys.geometry.blocks[b].body].name);
     let name = s

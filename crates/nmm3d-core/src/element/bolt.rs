@@ -132,9 +132,19 @@ pub struct BoltState {
     pub plastic_shear: Vec3,
     /// Broken: it carries nothing any more.
     pub broken: bool,
+    /// Relative displacement of its points when it was installed [m] (a bolt installed by a
+    /// later stage is unstressed in the rock as it has moved until then).
+    #[serde(default)]
+    pub installed: Vec3,
 }
 
 impl BoltState {
+    /// Relative displacement Δ of spring `b` since its installation for cover displacements `u`
+    /// [m].
+    pub fn relative(&self, b: &BoltSpring, u: &[Vec3]) -> Vec3 {
+        b.relative(u) - self.installed
+    }
+
     /// Shear force at relative displacement `d` before the capacity is applied [N].
     pub fn trial_shear(&self, b: &BoltSpring, d: &Vec3) -> Vec3 {
         (b.shear_of(d) - self.plastic_shear) * b.law.shear_stiffness

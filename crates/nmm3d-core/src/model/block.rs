@@ -22,6 +22,8 @@ pub struct Block {
     pub volume: f64,
     /// Volume centroid [m].
     pub centroid: Vec3,
+    /// The excavation whose opening it fills until a stage removes it (`None`: rock).
+    pub excavation: Option<usize>,
 }
 
 impl Block {
@@ -38,6 +40,7 @@ impl Block {
             pieces,
             volume,
             centroid,
+            excavation: None,
         }
     }
 

@@ -17,9 +17,9 @@
 
 use rayon::prelude::*;
 
-use nmm3d_geom::decompose::{subtract_convex, NewFaceTags};
 use nmm3d_geom::{orientation, polygon, Aabb, ConvexPolyhedron, Face, Plane, Vec3};
 
+use super::excavate::excavate;
 use super::shape::shape_to_pieces;
 use super::tags;
 use super::union_find::UnionFind;
@@ -58,18 +58,22 @@ pub struct RawBlock {
     pub body: usize,
     /// Convex pieces glued by `tags::GLUE` faces.
     pub pieces: Vec<ConvexPolyhedron>,
+    /// The excavation whose opening it fills, kept until a stage removes it (`None`: rock).
+    pub excavation: Option<usize>,
 }
 
 impl RawBlock {
+    /// Rock of body `body` made of `pieces`.
+    pub fn new(body: usize, pieces: Vec<ConvexPolyhedron>) -> Self {
+        Self { body, pieces, excavation: None }
+    }
     fn volume(&self) -> f64 {
         self.pieces.iter().map(|p| p.volume()).sum()
     }
-    fn aabb(&self) -> Aabb {
+    pub(super) fn aabb(&self) -> Aabb {
         self.pieces.iter().map(|p| p.aabb()).reduce(|a, b| a.union(&b)).expect("a block has a piece")
     }
 }
-
-const GLUE_TAGS: NewFaceTags = NewFaceTags { glue: tags::GLUE };
 
 /// The joint features of a scenario: joint sets first, then joint planes.
 pub fn joint_features(s: &Scenario) -> Vec<JointFeature> {
@@ -107,8 +111,9 @@ pub fn joint_features(s: &Scenario) -> Vec<JointFeature> {
     out
 }
 
-/// Cut the bodies of a validated scenario into blocks.
-pub fn cut(s: &Scenario, initial: Vec<RawBlock>) -> (Vec<RawBlock>, CutReport) {
+/// Cut the bodies of a validated scenario into blocks; the rock inside the excavations with
+/// `keep[e]` stays as plug blocks (after the rock, in the same order among themselves).
+pub fn cut(s: &Scenario, initial: Vec<RawBlock>, keep: &[bool]) -> (Vec<RawBlock>, CutReport) {
     let mut blocks = initial;
     let mut report = CutReport::default();
     for (f, feat) in joint_features(s).iter().enumerate() {
@@ -126,7 +131,8 @@ pub fn cut(s: &Scenario, initial: Vec<RawBlock>) -> (Vec<RawBlock>, CutReport) {
     for (e, ex) in s.excavation.iter().enumerate() {
         let holes = shape_to_pieces(&ex.shape).expect("validated");
         let before: f64 = blocks.iter().map(RawBlock::volume).sum();
-        blocks = blocks.into_par_iter().flat_map_iter(|b| excavate(b, &holes, e)).collect();
+        let kept = keep.get(e).copied().unwrap_or(false);
+        blocks = blocks.into_par_iter().flat_map_iter(|b| excavate(b, &holes, e, kept)).collect();
         report.excavated_volume += before - blocks.iter().map(RawBlock::volume).sum::<f64>();
     }
     merge_slivers(&mut blocks, s.cutting.sliver_ratio, &mut report);
@@ -166,29 +172,10 @@ fn extent(p: &ConvexPolyhedron, n: &Vec3) -> (f64, f64) {
     })
 }
 
-/// Remove the excavation's convex parts from a block; regroup what stays.
-fn excavate(b: RawBlock, holes: &[ConvexPolyhedron], e: usize) -> Vec<RawBlock> {
-    let hb = holes.iter().map(|h| h.aabb()).reduce(|a, c| a.union(&c)).expect("a shape has a piece");
-    if !b.aabb().overlaps(&hb) {
-        return vec![b];
-    }
-    let mut pieces = b.pieces;
-    for hole in holes {
-        pieces = pieces
-            .into_iter()
-            .flat_map(|p| subtract_convex(&p, hole, |k| tags::excavation(e, k), GLUE_TAGS).unwrap_or_else(|| vec![p]))
-            .collect();
-    }
-    if pieces.is_empty() {
-        return Vec::new();
-    }
-    regroup(b.body, pieces)
-}
-
 /// Connected components of pieces through glue faces.
 pub fn regroup(body: usize, pieces: Vec<ConvexPolyhedron>) -> Vec<RawBlock> {
     if pieces.len() == 1 {
-        return vec![RawBlock { body, pieces }];
+        return vec![RawBlock::new(body, pieces)];
     }
     let mut uf = UnionFind::new(pieces.len());
     let size = pieces.iter().map(|p| p.aabb().diagonal()).fold(0.0, f64::max);
@@ -219,7 +206,7 @@ pub fn regroup(body: usize, pieces: Vec<ConvexPolyhedron>) -> Vec<RawBlock> {
             None => groups.push((root, vec![p])),
         }
     }
-    groups.into_iter().map(|(_, pieces)| RawBlock { body, pieces }).collect()
+    groups.into_iter().map(|(_, pieces)| RawBlock::new(body, pieces)).collect()
 }
 
 /// Whether two faces are coplanar, opposite, and overlap with positive area.
@@ -255,7 +242,16 @@ fn merge_slivers(blocks: &mut Vec<RawBlock>, ratio: f64, report: &mut CutReport)
     }
     let mut vols: Vec<f64> = blocks.par_iter().map(RawBlock::volume).collect();
     let largest = vols.iter().cloned().fold(0.0, f64::max);
-    let mut candidates: Vec<usize> = (0..blocks.len()).filter(|&i| vols[i] < ratio * largest).collect();
+    // Rock and each plug on their own: a plug leaves the rock's slivers as they would be without it.
+    let mut top: Vec<(Option<usize>, f64)> = Vec::new();
+    for (b, &v) in blocks.iter().zip(&vols) {
+        match top.iter_mut().find(|(t, _)| *t == b.excavation) {
+            Some((_, m)) => *m = m.max(v),
+            None => top.push((b.excavation, v)),
+        }
+    }
+    let largest_like = |i: usize| top.iter().find(|(t, _)| *t == blocks[i].excavation).map_or(largest, |(_, m)| *m);
+    let mut candidates: Vec<usize> = (0..blocks.len()).filter(|&i| vols[i] < ratio * largest_like(i)).collect();
     if candidates.is_empty() {
         return;
     }
@@ -275,7 +271,7 @@ fn merge_slivers(blocks: &mut Vec<RawBlock>, ratio: f64, report: &mut CutReport)
         let mut best: Option<usize> = None;
         for j in grid.query(&sb) {
             let j = root(&owner, j);
-            if j == s || !alive[j] || blocks[j].body != blocks[s].body || best.is_some_and(|b| vols[b] >= vols[j]) {
+            if j == s || !alive[j] || (blocks[j].body, blocks[j].excavation) != (blocks[s].body, blocks[s].excavation) || best.is_some_and(|b| vols[b] >= vols[j]) {
                 continue;
             }
             if shared_area(&blocks[s], &blocks[j], size) > 0.0 {
@@ -285,7 +281,7 @@ fn merge_slivers(blocks: &mut Vec<RawBlock>, ratio: f64, report: &mut CutReport)
         match best {
             Some(j) if vols[s] < ratio * vols[j] => {
                 let body = blocks[s].body;
-                let sliver = std::mem::replace(&mut blocks[s], RawBlock { body, pieces: Vec::new() });
+                let sliver = std::mem::replace(&mut blocks[s], RawBlock::new(body, Vec::new()));
                 glue_together(&mut blocks[j], sliver, size);
                 vols[j] += vols[s];
                 alive[s] = false;
@@ -409,14 +405,15 @@ fn split_shared(f: Face, others: &[Face], eps: f64, size: f64) -> Vec<Face> {
     out
 }
 
-/// Stable order: by centroid x, then y, then z (quantised so round-off cannot reorder).
+/// Stable order: rock, then each excavation's plug; by centroid x, then y, then z (quantised so
+/// round-off cannot reorder).
 fn sort_by_centroid(blocks: &mut [RawBlock]) {
     let size = blocks.iter().map(|b| b.aabb()).reduce(|a, b| a.union(&b)).map_or(1.0, |b| b.diagonal());
     let q = 1e-9 * size;
     let key = |b: &RawBlock| {
         let v = b.volume();
         let c = b.pieces.iter().map(|p| p.volume() * p.centroid()).sum::<Vec3>() / v;
-        [(c.x / q).round() as i64, (c.y / q).round() as i64, (c.z / q).round() as i64]
+        (b.excavation, [(c.x / q).round() as i64, (c.y / q).round() as i64, (c.z / q).round() as i64])
     };
     blocks.sort_by_cached_key(key);
 }

@@ -3,6 +3,7 @@
 pub mod block;
 pub mod cutting;
 pub mod estimate;
+pub mod excavate;
 pub mod material;
 pub mod shape;
 pub mod tags;
@@ -38,21 +39,47 @@ impl Geometry {
     /// Build blocks from a validated scenario: bodies, then joints, then excavations — in the
     /// scenario's local frame (`Scenario::local_origin`; the identity near the origin).
     pub fn from_scenario(s: &Scenario) -> Self {
+        Self::cut_keeping(s, &vec![false; s.excavation.len()])
+    }
+
+    /// The rock mass of a staged analysis: as [`Self::from_scenario`], but the rock inside each
+    /// excavation a stage removes stays as plug blocks (after the rock blocks, which are
+    /// numbered as without stages) until that stage.
+    pub fn staged(s: &Scenario) -> Self {
+        let keep: Vec<bool> =
+            s.excavation.iter().map(|e| s.stage.iter().any(|st| e.name.as_ref().is_some_and(|n| st.excavate.contains(n)))).collect();
+        Self::cut_keeping(s, &keep)
+    }
+
+    /// The blocks that stay once the plugs of the excavations `removed` are taken out, with each
+    /// kept block's index here.
+    pub fn without(&self, removed: &[bool]) -> (Self, Vec<Option<usize>>) {
+        let gone = |b: &Block| b.excavation.is_some_and(|e| removed.get(e).copied().unwrap_or(false));
+        let mut map = vec![None; self.blocks.len()];
+        let mut blocks = Vec::new();
+        for (i, b) in self.blocks.iter().enumerate().filter(|(_, b)| !gone(b)) {
+            map[i] = Some(blocks.len());
+            blocks.push(b.clone());
+        }
+        (Self { blocks, ..self.clone() }, map)
+    }
+
+    fn cut_keeping(s: &Scenario, keep: &[bool]) -> Self {
         let origin = s.local_origin();
-        let mut g = Self::cut(&s.shifted(origin));
+        let mut g = Self::cut(&s.shifted(origin), keep);
         g.origin = Vec3::from(origin);
         g
     }
 
-    fn cut(s: &Scenario) -> Self {
+    fn cut(s: &Scenario, keep: &[bool]) -> Self {
         let materials: Vec<Elastic> = s.material.iter().map(Elastic::new).collect();
         let initial = s
             .body
             .iter()
             .enumerate()
-            .map(|(k, b)| cutting::RawBlock { body: k, pieces: shape::shape_to_pieces(&b.shape).expect("validated") })
+            .map(|(k, b)| cutting::RawBlock::new(k, shape::shape_to_pieces(&b.shape).expect("validated")))
             .collect();
-        let (raw, report) = cutting::cut(s, initial);
+        let (raw, report) = cutting::cut(s, initial, keep);
         let blocks = raw
             .into_iter()
             .map(|r| {
@@ -61,6 +88,7 @@ impl Geometry {
                 let mut block = Block::new(r.body, m, b.fixed, r.pieces);
                 block.velocity = Vec3::from(b.velocity);
                 block.angular_velocity = Vec3::from(b.angular_velocity);
+                block.excavation = r.excavation;
                 block
             })
             .collect();

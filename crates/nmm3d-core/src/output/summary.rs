@@ -92,6 +92,35 @@ pub struct RunSummary {
     /// Where a resumed run continued from.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub resumed_from: Option<ResumedFrom>,
+    /// The stages of a staged analysis as they ran (also `stages.csv`); the counters and
+    /// timings above are the last stage's model's, steps and time the whole run's.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub stages: Vec<StageSummary>,
+}
+
+/// One stage of a staged analysis.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StageSummary {
+    /// Its name.
+    pub name: String,
+    /// How it ended.
+    pub status: Status,
+    /// Why.
+    pub message: String,
+    /// Simulated time at its start and end [s].
+    pub start_time: f64,
+    /// Simulated time at its end [s].
+    pub end_time: f64,
+    /// Accepted steps before it.
+    pub start_step: u64,
+    /// Accepted steps at its end.
+    pub end_step: u64,
+    /// Blocks of its model.
+    pub blocks: usize,
+    /// Unbalanced-force ratio at its end.
+    pub unbalanced_force_ratio: Option<f64>,
+    /// Wall-clock seconds, building its model included.
+    pub wall_seconds: f64,
 }
 
 /// The energy accounts at the end [J] and how well they balanced over the run.

@@ -6,8 +6,11 @@
 pub fn apply(root: &mut toml::Value, spec: &str) -> Result<(), (String, String)> {
     let (key, raw) =
         spec.split_once('=').ok_or_else(|| (spec.to_string(), "an override must look like KEY=VALUE".to_string()))?;
-    let key = key.trim();
-    let value = parse_value(raw.trim());
+    set(root, key.trim(), parse_value(raw.trim()))
+}
+
+/// Set `key` (a dotted path as in `--set`) to `value`; on failure return (key path, reason).
+pub fn set(root: &mut toml::Value, key: &str, value: toml::Value) -> Result<(), (String, String)> {
     let parts: Vec<&str> = key.split('.').collect();
     let err = |reason: String| (key.to_string(), reason);
     let mut cur = root;

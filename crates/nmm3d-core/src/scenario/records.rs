@@ -20,7 +20,8 @@ pub fn spell_out(mut s: Scenario, base: &Path, label: &str) -> Result<Scenario> 
     Ok(s)
 }
 
-/// Each `[[bolt_pattern]]` becomes its bolts (the pattern leaves the scenario).
+/// Each `[[bolt_pattern]]` becomes its bolts (the pattern leaves the scenario; a stage that
+/// installs the pattern installs its bolts).
 fn expand_patterns(s: &mut Scenario, label: &str) -> Result<()> {
     for p in std::mem::take(&mut s.bolt_pattern) {
         let at = format!("bolt_pattern.{}", p.name);
@@ -30,6 +31,11 @@ fn expand_patterns(s: &mut Scenario, label: &str) -> Result<()> {
         let bolts = p.bolts();
         if bolts.is_empty() {
             return Err(Error::input(label, at, "gives no bolt (a count of 0, or a zero direction)"));
+        }
+        for st in &mut s.stage {
+            if let Some(i) = st.install.iter().position(|n| n == &p.name) {
+                st.install.splice(i..=i, bolts.iter().map(|b| b.name.clone()));
+            }
         }
         s.bolt.extend(bolts);
     }

@@ -2,6 +2,7 @@
 
 mod recorder;
 mod run;
+mod stages;
 mod summary;
 
 pub use crate::output::summary::{RunSummary, Status};

@@ -9,6 +9,7 @@ use crate::checkpoint::RecordSnapshot;
 use crate::error::Result;
 use crate::monitor::MonitorPlan;
 use crate::output::{cuts, tables, vtu};
+use crate::scenario::Scenario;
 use crate::system::System;
 use crate::time::State;
 
@@ -30,6 +31,9 @@ pub(super) struct Recorder {
     pub(super) open_close: u64,
     pub(super) output_seconds: f64,
     pub(super) last_history_write: Instant,
+    /// Where each monitored value of the current model goes among the history's columns (a
+    /// staged run's columns are every stage's); `None`: in order.
+    layout: Option<Vec<usize>>,
 }
 
 /// Wall-clock seconds between rewrites of `history.csv` during a run, so long runs can be
@@ -38,9 +42,7 @@ const HISTORY_FLUSH_SECONDS: f64 = 10.0;
 
 impl Recorder {
     pub(super) fn new(sys: &System, monitors: Vec<MonitorPlan>, out: &Path) -> Self {
-        let bolts = sys.scenario.bolt.iter().flat_map(|b| b.columns());
-        let base = sys.scenario.seismic.columns();
-        let columns = monitors.iter().flat_map(|m| m.columns()).chain(bolts).chain(base).collect();
+        let columns = columns(&sys.scenario, &monitors);
         Self {
             monitors,
             history: tables::History::new(columns),
@@ -58,7 +60,28 @@ impl Recorder {
             open_close: 0,
             output_seconds: 0.0,
             last_history_write: Instant::now(),
+            layout: None,
         }
+    }
+
+    /// The history's columns made those of all `stages` (first appearance first).
+    pub(super) fn for_stages(mut self, stages: &[Scenario]) -> Self {
+        for s in stages {
+            for c in columns(s, &self.monitors) {
+                if !self.history.columns.contains(&c) {
+                    self.history.columns.push(c);
+                }
+            }
+        }
+        self
+    }
+
+    /// Record the model `sys` of the next stage from now on, with its monitors.
+    pub(super) fn restage(&mut self, sys: &System, monitors: Vec<MonitorPlan>) {
+        let all = &self.history.columns;
+        let at = |c: &String| all.iter().position(|x| x == c).expect("the run's columns hold every stage's");
+        self.layout = Some(columns(&sys.scenario, &monitors).iter().map(at).collect());
+        self.monitors = monitors;
     }
 
     pub(super) fn record(&mut self, sys: &System, whole: &State, first: bool) -> Result<()> {
@@ -71,6 +94,11 @@ impl Recorder {
             vals.extend(crate::time::bolt_values(sys, state));
             if sys.scenario.seismic.moves() {
                 vals.extend(state.base.iter().flat_map(|v| [v.x, v.y, v.z]));
+            }
+            if let Some(layout) = &self.layout {
+                let mut row = vec![f64::NAN; self.history.columns.len()];
+                layout.iter().zip(&vals).for_each(|(&i, &v)| row[i] = v);
+                vals = row;
             }
             self.history.rows.push((state.time, state.step, vals));
             if let Some(h) = a.history_interval {
@@ -160,4 +188,10 @@ impl Recorder {
         let Some((_, _, vals)) = self.history.rows.last() else { return BTreeMap::new() };
         self.history.columns.iter().zip(vals).map(|(c, &v)| (c.clone(), Some(v).filter(|v| v.is_finite()))).collect()
     }
+}
+
+/// History columns of a scenario's model: monitors, bolts, the shaking base.
+fn columns(s: &Scenario, monitors: &[MonitorPlan]) -> Vec<String> {
+    let bolts = s.bolt.iter().flat_map(|b| b.columns());
+    monitors.iter().flat_map(|m| m.columns()).chain(bolts).chain(s.seismic.columns()).collect()
 }

@@ -56,7 +56,7 @@ pub struct RunOptions {
 }
 
 /// How the stepping ended (errors aside).
-enum End {
+pub(super) enum End {
     /// Reached the duration, equilibrium, or (dynamic) `max_steps`.
     Completed(String),
     /// A static run that reached its duration or `max_steps` before equilibrium.
@@ -69,6 +69,9 @@ enum End {
 /// `opts.out`). `Err` only for invalid input or unwritable outputs; a run that fails
 /// numerically returns `Ok` with `completed = false`.
 pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutcome> {
+    if scenario.staged() {
+        return super::stages::run(scenario, label, opts);
+    }
     let t_start = Instant::now();
     let out = &opts.out;
     // Held to the end of the run: no other run writes here meanwhile.
@@ -98,10 +101,11 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
         }
     };
     let mut progress = Progress::new(progress_mode(opts.progress), &state.motion);
+    let static_run = sys.scenario.analysis.kind == AnalysisKind::Static;
     let started =
         if resumed_at.is_some() { Ok(()) } else { start(&sys, &mut state, &mut stepper, &mut rec, &mut saver) };
     let result = started
-        .and_then(|_| advance(&sys, &mut state, &mut stepper, &mut rec, &mut progress, opts.stop.as_ref(), &mut saver));
+        .and_then(|_| advance(&sys, (&mut state, &mut stepper), &mut rec, &mut progress, opts.stop.as_ref(), &mut saver, static_run));
     rec.cut_log.append(&mut stepper.cuts);
     progress.finish();
     let (status, message) = match result {
@@ -132,7 +136,7 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
 /// An error that stopped the run's outputs (a disk full, a directory gone): a `summary.json`
 /// saying `failed` with the reason is still written where the disk allows; the error is
 /// returned.
-fn failed(sys: &System, state: &State, stepper: &Stepper, rec: &Recorder, e: Error, t_start: Instant) -> Error {
+pub(super) fn failed(sys: &System, state: &State, stepper: &Stepper, rec: &Recorder, e: Error, t_start: Instant) -> Error {
     let message = e.to_string();
     let end = Ending {
         status: Status::Failed,
@@ -146,13 +150,13 @@ fn failed(sys: &System, state: &State, stepper: &Stepper, rec: &Recorder, e: Err
 }
 
 /// `summary.json`, written whole or not at all.
-fn write_summary(out: &Path, summary: &RunSummary) -> Result<()> {
+pub(super) fn write_summary(out: &Path, summary: &RunSummary) -> Result<()> {
     let text = serde_json::to_string_pretty(summary).expect("the summary serialises");
     atomic::write(&out.join("summary.json"), text.as_bytes())
 }
 
 /// Where progress goes: nowhere, a terminal line, or periodic lines in a log.
-fn progress_mode(wanted: bool) -> ProgressMode {
+pub(super) fn progress_mode(wanted: bool) -> ProgressMode {
     match (wanted, std::io::stderr().is_terminal()) {
         (false, _) => ProgressMode::Off,
         (true, true) => ProgressMode::Terminal,
@@ -162,7 +166,7 @@ fn progress_mode(wanted: bool) -> ProgressMode {
 
 /// A fresh run's start: initial accelerations, the initial equilibrium if asked for, the first
 /// history row and frame.
-fn start(sys: &System, state: &mut State, stepper: &mut Stepper, rec: &mut Recorder, saver: &mut Saver) -> Result<()> {
+pub(super) fn start(sys: &System, state: &mut State, stepper: &mut Stepper, rec: &mut Recorder, saver: &mut Saver) -> Result<()> {
     stepper.initialize(sys, state)?;
     if sys.scenario.analysis.initial_equilibrium {
         saver.initial_equilibrium = Some(stepper.settle(sys, state)?);
@@ -171,16 +175,16 @@ fn start(sys: &System, state: &mut State, stepper: &mut Stepper, rec: &mut Recor
 }
 
 /// Writes `checkpoint.json`: every `interval` wall seconds during the run and at its end.
-struct Saver {
+pub(super) struct Saver {
     out: PathBuf,
     scenario: Value,
     interval: f64,
     last: Instant,
-    initial_equilibrium: Option<Settled>,
+    pub(super) initial_equilibrium: Option<Settled>,
 }
 
 impl Saver {
-    fn new(out: &Path, scenario: Value, interval: f64) -> Self {
+    pub(super) fn new(out: &Path, scenario: Value, interval: f64) -> Self {
         Self { out: out.to_path_buf(), scenario, interval, last: Instant::now(), initial_equilibrium: None }
     }
 
@@ -203,15 +207,16 @@ impl Saver {
     }
 }
 
-/// Step until the end or a stop request.
-fn advance(
+/// Step until the end (`analysis.duration`, or equilibrium if `until_equilibrium`: a static
+/// run's, or a dynamic stage's) or a stop request.
+pub(super) fn advance(
     sys: &System,
-    whole: &mut State,
-    stepper: &mut Stepper,
+    (whole, stepper): (&mut State, &mut Stepper),
     rec: &mut Recorder,
     progress: &mut Progress,
     stop: Option<&StopRequest>,
     saver: &mut Saver,
+    until_equilibrium: bool,
 ) -> Result<End> {
     let a = &sys.scenario.analysis;
     let end = a.duration;
@@ -226,6 +231,8 @@ fn advance(
                      equilibrium_tolerance {:.3e})",
                     a.equilibrium_tolerance
                 ))
+            } else if until_equilibrium {
+                End::Completed(format!("reached t = {end} s before equilibrium (unbalanced force ratio {unbalanced:.3e})"))
             } else {
                 End::Completed(format!("reached t = {end} s"))
             });
@@ -257,7 +264,7 @@ fn advance(
         }
         rec.record(sys, whole, false)?;
         progress.step(a, state, &report);
-        if a.kind == AnalysisKind::Static && state.step > 1 && report.unbalanced <= a.equilibrium_tolerance {
+        if until_equilibrium && state.step > 1 && report.unbalanced <= a.equilibrium_tolerance {
             return Ok(End::Completed(format!(
                 "equilibrium reached (unbalanced force ratio {:.3e})",
                 report.unbalanced

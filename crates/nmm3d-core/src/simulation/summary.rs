@@ -59,6 +59,7 @@ pub(super) fn summary(sys: &System, whole: &State, stepper: &Stepper, rec: &Reco
         final_values: last,
         initial_equilibrium: end.initial_equilibrium.as_ref().map(|s| initial_equilibrium(sys, s)),
         resumed_from: end.resumed_at.map(|(step, time)| ResumedFrom { step, time }),
+        stages: Vec::new(),
     }
 }
 

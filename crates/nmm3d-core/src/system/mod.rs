@@ -83,12 +83,17 @@ pub struct System {
 impl System {
     /// Discretise a validated scenario (`label` names it in error messages).
     pub fn build(scenario: Scenario, label: &str) -> Result<Self> {
-        let t = Instant::now();
         let geometry = Geometry::from_scenario(&scenario);
+        let extent = geometry.aabb().extent();
+        Self::on_geometry(scenario, geometry, extent, label)
+    }
+
+    /// Discretise the blocks `geometry` of a validated scenario, the cover sized for a model of
+    /// `ext` [m] (a stage's blocks take the whole rock mass's, so that every stage has one mesh).
+    pub fn on_geometry(scenario: Scenario, geometry: Geometry, ext: Vec3, label: &str) -> Result<Self> {
+        let t = Instant::now();
         // Everything else in the blocks' local frame too (points, regions, the cover's origin).
         let scenario = scenario.shifted(geometry.origin.into());
-        let bb = geometry.aabb();
-        let ext = bb.extent();
         let size = crate::model::estimate::cover_size(&scenario.cover, ext);
         let c = &scenario.cover;
         let mesh = MathMesh::new(size, Vec3::from(c.origin), c.rotation);

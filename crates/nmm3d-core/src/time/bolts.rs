@@ -33,7 +33,7 @@ fn forces(b: &BoltSpring, s: &BoltState, d: &Vec3) -> (f64, Vec3, bool, bool) {
 pub(super) fn add_bolts(sys: &System, state: &Motion, residual: &mut [Vec3], mut tangent: Option<&mut Vec<f64>>) {
     let first = sys.covers.elements.len();
     for (k, (b, s)) in sys.bolts.iter().zip(&state.bolts).enumerate().filter(|(_, (_, s))| !s.broken) {
-        let (tension, shear, axial, elastic) = forces(b, s, &b.relative(&state.u));
+        let (tension, shear, axial, elastic) = forces(b, s, &s.relative(b, &state.u));
         let f = b.axis * tension + shear;
         for (&c, w) in b.covers.iter().zip(&b.weights) {
             residual[c] -= *w * f;
@@ -48,7 +48,7 @@ impl Stepper {
     /// After an accepted step: each bolt spring yields or breaks.
     pub(super) fn update_bolts(&self, sys: &System, state: &mut Motion) {
         for (b, s) in sys.bolts.iter().zip(state.bolts.iter_mut()) {
-            let d = b.relative(&state.u);
+            let d = s.relative(b, &state.u);
             s.update(b, &d);
         }
     }
@@ -60,7 +60,7 @@ pub fn spring_forces(sys: &System, state: &Motion) -> Vec<(f64, f64, f64)> {
         .iter()
         .zip(&state.bolts)
         .map(|(b, s)| {
-            let d = b.relative(&state.u);
+            let d = s.relative(b, &state.u);
             let (tension, shear, _, _) = forces(b, s, &d);
             if s.broken {
                 (0.0, b.axis.dot(&d), 0.0)

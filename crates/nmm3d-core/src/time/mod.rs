@@ -3,6 +3,7 @@
 mod account;
 mod base_motion;
 mod bolts;
+pub mod carry;
 pub mod contact_pattern;
 pub mod corotation;
 pub mod cut;

@@ -5,12 +5,14 @@ mod controls;
 mod loads;
 mod monitor;
 mod rock;
+mod stages;
 mod support;
 
 pub use controls::*;
 pub use loads::*;
 pub use monitor::*;
 pub use rock::*;
+pub use stages::*;
 pub use support::*;
 
 use serde::{Deserialize, Serialize};
@@ -85,6 +87,9 @@ pub struct Scenario {
     /// Earthquake loading: pseudo-static coefficients and base motion (addition to v1).
     #[serde(default)]
     pub seismic: Seismic,
+    /// Stages of a staged analysis (addition to v1); none: one stage of `analysis.duration`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub stage: Vec<Stage>,
     /// Monitored quantities.
     #[serde(default)]
     pub monitor: Vec<Monitor>,

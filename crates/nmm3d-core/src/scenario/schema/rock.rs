@@ -221,6 +221,9 @@ pub struct JointPlane {
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Excavation {
+    /// Name, for a stage to remove it by (addition to v1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
     /// Shape removed.
     pub shape: Shape,
 }

@@ -6,6 +6,7 @@ use std::collections::HashSet;
 use super::schema::*;
 use crate::error::Problem;
 
+mod stages;
 mod support;
 
 struct Checker {
@@ -78,6 +79,7 @@ pub fn problems(s: &Scenario) -> Vec<Problem> {
     loads(&mut c, s);
     seismic(&mut c, s);
     support::bolts(&mut c, s);
+    stages::stages(&mut c, s);
     monitors(&mut c, s);
     expectations(&mut c, s);
     finite(&mut c, s);
