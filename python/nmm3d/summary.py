@@ -182,7 +182,8 @@ def _build(cls: type, data: dict[str, Any]) -> Any:
     fields = {f.name: f for f in dataclasses.fields(cls)}
     names = {json_name(n): n for n in fields}
     unknown = set(data) - set(names)
-    missing = {k for k, n in names.items() if k not in data and fields[n].default is dataclasses.MISSING}
+    required = {n for n, f in fields.items() if f.default is f.default_factory is dataclasses.MISSING}
+    missing = {k for k, n in names.items() if k not in data and n in required}
     if unknown or missing:
         raise ValueError(f"summary.json and {cls.__name__} differ: unknown {sorted(unknown)}, missing {sorted(missing)}")
     return cls(**{names[k]: _convert(hints[names[k]], v) for k, v in data.items()})
