@@ -51,6 +51,10 @@ CASES = {
     "grouted_bolt.toml": [],
     "grouted_dowel.toml": [],
     "sliding_wedge.toml": [],
+    # Staged analyses (tests/test_stages.py checks them against closed forms).
+    "staged_incline.toml": ["stage.bolt.duration=0.1"],
+    "staged_tunnel_lame.toml": ["cover.size=0.2"],
+    "tunnel_key_blocks_staged.toml": ["stage.in-situ.duration=0.002", "stage.excavate.duration=0.002"],
 }
 
 

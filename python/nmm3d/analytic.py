@@ -128,3 +128,19 @@ def dowel_stiffness(foundation_modulus: float, bending_rigidity: float) -> float
     2Vλ/k_f (Hetényi 1946), λ = (k_f/4EI)^¼; the joint's shear is twice that: k_f/(4λ)."""
     lam = (foundation_modulus / (4.0 * bending_rigidity)) ** 0.25
     return foundation_modulus / (4.0 * lam)
+
+
+def lame_excavation(r, a: float, b: float, pressure: float, young: float, poisson: float):
+    """Radial displacement [m] (outward positive) and hoop stress change [Pa] (tension positive)
+    at radius ``r`` when a circular opening of radius ``a`` is excavated in a thick cylinder
+    (outer radius ``b``, its outer traction unchanged) under hydrostatic in-situ stress
+    ``pressure`` (compression, > 0), plane strain: u = A r + B / r with the radial stress change
+    +p at r = a and 0 at r = b (Lamé; Jaeger, Cook & Zimmerman 2007, §8.2). As b → ∞ it is
+    Kirsch's u = −p a² (1 + ν) / (E r)."""
+    g = young / (2.0 * (1.0 + poisson))
+    lam = young * poisson / ((1.0 + poisson) * (1.0 - 2.0 * poisson))
+    # σ_r = 2(λ + G) A − 2G B / r²; σ_θ = 2(λ + G) A + 2G B / r².
+    m = np.array([[2.0 * (lam + g), -2.0 * g / a**2], [2.0 * (lam + g), -2.0 * g / b**2]])
+    big_a, big_b = np.linalg.solve(m, [pressure, 0.0])
+    r = np.asarray(r, dtype=float)
+    return big_a * r + big_b / r, 2.0 * (lam + g) * big_a + 2.0 * g * big_b / r**2

@@ -271,7 +271,11 @@ fn merge_slivers(blocks: &mut Vec<RawBlock>, ratio: f64, report: &mut CutReport)
         let mut best: Option<usize> = None;
         for j in grid.query(&sb) {
             let j = root(&owner, j);
-            if j == s || !alive[j] || (blocks[j].body, blocks[j].excavation) != (blocks[s].body, blocks[s].excavation) || best.is_some_and(|b| vols[b] >= vols[j]) {
+            if j == s
+                || !alive[j]
+                || (blocks[j].body, blocks[j].excavation) != (blocks[s].body, blocks[s].excavation)
+                || best.is_some_and(|b| vols[b] >= vols[j])
+            {
                 continue;
             }
             if shared_area(&blocks[s], &blocks[j], size) > 0.0 {

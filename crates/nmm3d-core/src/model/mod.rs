@@ -46,8 +46,11 @@ impl Geometry {
     /// excavation a stage removes stays as plug blocks (after the rock blocks, which are
     /// numbered as without stages) until that stage.
     pub fn staged(s: &Scenario) -> Self {
-        let keep: Vec<bool> =
-            s.excavation.iter().map(|e| s.stage.iter().any(|st| e.name.as_ref().is_some_and(|n| st.excavate.contains(n)))).collect();
+        let keep: Vec<bool> = s
+            .excavation
+            .iter()
+            .map(|e| s.stage.iter().any(|st| e.name.as_ref().is_some_and(|n| st.excavate.contains(n))))
+            .collect();
         Self::cut_keeping(s, &keep)
     }
 

@@ -104,8 +104,9 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
     let static_run = sys.scenario.analysis.kind == AnalysisKind::Static;
     let started =
         if resumed_at.is_some() { Ok(()) } else { start(&sys, &mut state, &mut stepper, &mut rec, &mut saver) };
-    let result = started
-        .and_then(|_| advance(&sys, (&mut state, &mut stepper), &mut rec, &mut progress, opts.stop.as_ref(), &mut saver, static_run));
+    let result = started.and_then(|_| {
+        advance(&sys, (&mut state, &mut stepper), &mut rec, &mut progress, opts.stop.as_ref(), &mut saver, static_run)
+    });
     rec.cut_log.append(&mut stepper.cuts);
     progress.finish();
     let (status, message) = match result {
@@ -136,7 +137,14 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
 /// An error that stopped the run's outputs (a disk full, a directory gone): a `summary.json`
 /// saying `failed` with the reason is still written where the disk allows; the error is
 /// returned.
-pub(super) fn failed(sys: &System, state: &State, stepper: &Stepper, rec: &Recorder, e: Error, t_start: Instant) -> Error {
+pub(super) fn failed(
+    sys: &System,
+    state: &State,
+    stepper: &Stepper,
+    rec: &Recorder,
+    e: Error,
+    t_start: Instant,
+) -> Error {
     let message = e.to_string();
     let end = Ending {
         status: Status::Failed,
@@ -166,7 +174,13 @@ pub(super) fn progress_mode(wanted: bool) -> ProgressMode {
 
 /// A fresh run's start: initial accelerations, the initial equilibrium if asked for, the first
 /// history row and frame.
-pub(super) fn start(sys: &System, state: &mut State, stepper: &mut Stepper, rec: &mut Recorder, saver: &mut Saver) -> Result<()> {
+pub(super) fn start(
+    sys: &System,
+    state: &mut State,
+    stepper: &mut Stepper,
+    rec: &mut Recorder,
+    saver: &mut Saver,
+) -> Result<()> {
     stepper.initialize(sys, state)?;
     if sys.scenario.analysis.initial_equilibrium {
         saver.initial_equilibrium = Some(stepper.settle(sys, state)?);
@@ -232,7 +246,9 @@ pub(super) fn advance(
                     a.equilibrium_tolerance
                 ))
             } else if until_equilibrium {
-                End::Completed(format!("reached t = {end} s before equilibrium (unbalanced force ratio {unbalanced:.3e})"))
+                End::Completed(format!(
+                    "reached t = {end} s before equilibrium (unbalanced force ratio {unbalanced:.3e})"
+                ))
             } else {
                 End::Completed(format!("reached t = {end} s"))
             });

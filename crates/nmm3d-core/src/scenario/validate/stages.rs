@@ -19,7 +19,10 @@ pub(super) fn stages(c: &mut Checker, s: &Scenario) {
         c.positive(&format!("{p}.duration"), st.duration);
         for n in &st.excavate {
             if !s.excavation.iter().any(|e| e.name.as_ref() == Some(n)) {
-                c.fail(format!("{p}.excavate"), format!("there is no excavation named '{n}' (give it `name = \"{n}\"`)"));
+                c.fail(
+                    format!("{p}.excavate"),
+                    format!("there is no excavation named '{n}' (give it `name = \"{n}\"`)"),
+                );
             } else if removed.contains(&n) {
                 c.fail(format!("{p}.excavate"), format!("excavation '{n}' is removed by an earlier stage"));
             }
