@@ -135,7 +135,8 @@ def lame_excavation(r, a: float, b: float, pressure: float, young: float, poisso
     at radius ``r`` when a circular opening of radius ``a`` is excavated in a thick cylinder
     (outer radius ``b``, its outer traction unchanged) under hydrostatic in-situ stress
     ``pressure`` (compression, > 0), plane strain: u = A r + B / r with the radial stress change
-    +p at r = a and 0 at r = b (Lamé; Jaeger, Cook & Zimmerman 2007, §8.2). As b → ∞ it is
+    +p at r = a and 0 at r = b (Lamé; Jaeger, Cook & Zimmerman, *Fundamentals of Rock
+    Mechanics*, 4th ed. 2007, ch. 8). As b → ∞ it is
     Kirsch's u = −p a² (1 + ν) / (E r)."""
     g = young / (2.0 * (1.0 + poisson))
     lam = young * poisson / ((1.0 + poisson) * (1.0 - 2.0 * poisson))

@@ -76,6 +76,8 @@ pub fn carry(old: &System, new: &System, blocks: &[Option<usize>], state: &State
         rotations: Maps::carry(&m.elements, &state.motion.rotations, nmm3d_geom::Mat3::identity()),
         bolts: bolts(old, new, &state.motion.bolts, &u),
         u,
+        // A stage asking for a shorter step starts with it (a longer one is grown to).
+        dt: state.motion.dt.min(new.scenario.analysis.dt),
         ..state.motion.clone()
     };
     let contact = match (&state.contact, new.geometry.blocks.len() > 1 && new.scenario.contact.enabled) {
