@@ -20,15 +20,8 @@ INCLINE = EXAMPLES / "staged_incline.toml"
 G = 10.0
 SLIDE = G * (math.sin(math.radians(30)) - math.tan(math.radians(24)) * math.cos(math.radians(30)))
 
-HEAD = """
-[analysis]
-dt = 0.002
-gravity = [0.0, 0.0, -10.0]
-output_interval = 0.05
-initial_equilibrium = true
-max_displacement_ratio = 0.01
-
-[cover]
+#: Cover, material and joint of the small models below.
+ROCK = """[cover]
 size = 0.5
 
 [[material]]
@@ -40,6 +33,17 @@ poisson = 0.25
 [[joint]]
 name = "j"
 friction_angle = 30.0
+"""
+
+HEAD = """
+[analysis]
+dt = 0.002
+gravity = [0.0, 0.0, -10.0]
+output_interval = 0.05
+initial_equilibrium = true
+max_displacement_ratio = 0.01
+
+""" + ROCK + """
 
 [[body]]
 name = "base"
@@ -133,18 +137,7 @@ max_displacement_ratio = 1.0
 equilibrium_tolerance = 1e-9
 gravity = [0.0, 0.0, 0.0]
 
-[cover]
-size = 0.5
-
-[[material]]
-name = "rock"
-density = 2500.0
-young = 1.0e9
-poisson = 0.25
-
-[[joint]]
-name = "j"
-friction_angle = 30.0
+""" + ROCK + """
 
 [[body]]
 name = "floor"
@@ -252,3 +245,25 @@ def test_a_staged_run_cannot_be_resumed(tmp_path):
     nmm3d.load(path, ["stage.remove.duration=0.01"]).run(out=tmp_path / "run")
     with pytest.raises(nmm3d.ScenarioError, match="cannot be resumed"):
         nmm3d.load(path).run(out=tmp_path / "run", resume=True)
+
+
+def test_a_bolt_in_rock_its_own_stage_excavates_stops_the_run_there(tmp_path):
+    """Its head lies in the prop the same stage removes: the stage's model cannot be built. The
+    input error names the bolt; the outputs of the stages before stand, the summary says failed."""
+    bolt = '\n[[bolt]]\nname = "b1"\nhead = [0.5, 0.5, 0.5]\nanchor = [0.5, 0.5, -0.5]\nstiffness = 1e6\n'
+    path = tmp_path / "prop.toml"
+    path.write_text(HEAD + bolt + PROP[len(HEAD):].replace('excavate = ["prop"]', 'excavate = ["prop"]\ninstall = ["b1"]'))
+    with pytest.raises(nmm3d.ScenarioError, match="bolt.b1"):
+        nmm3d.load(path).run(out=tmp_path / "run")
+    r = nmm3d.Result(tmp_path / "run")
+    assert r.status == "failed"
+    assert r.history["time"][-1] == pytest.approx(0.2)
+
+
+def test_a_study_ends_a_staged_runs_last_stage_at_the_criterion_time():
+    from nmm3d.study.plan import run_length
+
+    d = nmm3d.load(INCLINE).to_dict()
+    s = nmm3d.Scenario.from_dict(d, run_length(d, 1.0))
+    assert [st["duration"] for st in s.to_dict()["stage"]] == pytest.approx([0.2, 0.5, 0.3])
+    assert run_length({"analysis": {}}, 2.0) == ["analysis.duration=2.0"]

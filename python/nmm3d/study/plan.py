@@ -36,7 +36,7 @@ class Plan:
     def task(self, values: dict[str, Any], overrides: list[str]) -> dict[str, Any]:
         """A run with these overrides (``values``: what the study varied, for its table)."""
         text = json.dumps(self.scenario)
-        every = [*overrides, f"analysis.duration={_toml(self.spec.criterion.time)}"]
+        every = [*overrides, *run_length(self.scenario, self.spec.criterion.time)]
         effective = _core.load_json(text, self.label, every)
         key = json.dumps({"scenario": json.loads(effective), "criterion": self.criterion}, sort_keys=True)
         run_id = hashlib.sha256(key.encode()).hexdigest()[:16]
@@ -45,6 +45,16 @@ class Plan:
 
     def joint(self, name: str) -> dict[str, Any]:
         return next(j for j in self.scenario.get("joint", []) if j["name"] == name)
+
+
+def run_length(scenario: dict[str, Any], time: float) -> list[str]:
+    """The overrides that make a run of ``scenario`` end at ``time`` [s]: its duration, or, for a
+    staged analysis, its last stage's (the earlier stages run as given)."""
+    stages = scenario.get("stage") or []
+    if not stages:
+        return [f"analysis.duration={_toml(time)}"]
+    before = sum(float(s["duration"]) for s in stages[:-1])
+    return [f"stage.{stages[-1]['name']}.duration={_toml(time - before)}"]
 
 
 def _toml(v: Any) -> str:

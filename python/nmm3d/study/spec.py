@@ -153,7 +153,9 @@ def _criterion(c: _Checker, t: Any, scenario: dict) -> Criterion:
         return Criterion(math.nan, math.nan)
     c.unknown(t, {"monitor", "blocks", "displacement", "time"}, path)
     d = c.number(t, "displacement", path, positive=True)
-    time = c.number(t, "time", path, default=scenario.get("analysis", {}).get("duration"), positive=True)
+    stages = scenario.get("stage") or []
+    length = sum(s["duration"] for s in stages) if stages else scenario.get("analysis", {}).get("duration")
+    time = c.number(t, "time", path, default=length, positive=True)
     names = {m["name"] for m in scenario.get("monitor", [])}
     monitors = t.get("monitor", ())
     monitors = (monitors,) if isinstance(monitors, str) else tuple(monitors)

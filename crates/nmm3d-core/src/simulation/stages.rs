@@ -71,30 +71,37 @@ pub(super) fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<
     for (k, at) in scenarios.iter().enumerate() {
         let t_stage = Instant::now();
         let (geometry, map) = full.without(&scenario.open_excavations(k));
-        let sys = System::on_geometry(at.clone(), geometry, extent, label)?;
-        let monitors = MonitorPlan::all(&sys, label)?;
-        let (mut state, mut stepper, mut rec) = match current.take() {
+        let built = System::on_geometry(at.clone(), geometry, extent, label)
+            .and_then(|sys| MonitorPlan::all(&sys, label).map(|m| (sys, m)));
+        let (sys, monitors) = match (built, current.as_ref()) {
+            (Ok(b), _) => b,
+            // A later stage's model that cannot be built (a bolt in no rock): the run so far stands.
+            (Err(e), Some((old, state, stepper, rec))) => return Err(failed(old, state, stepper, rec, e, t_start)),
+            (Err(e), None) => return Err(e),
+        };
+        let (mut state, mut stepper, mut rec, started) = match current.take() {
             Some((old, state, _, mut rec)) => {
                 let state = carry(&old, &sys, &link(&before, &map), &state);
                 drop(old);
                 rec.restage(&sys, monitors);
                 let stepper = Stepper::carried(&sys, &state);
-                (state, stepper, rec)
+                (state, stepper, rec, Ok(()))
             }
             None => {
                 let mut state = State::initial(&sys);
                 let mut stepper = Stepper::new(&sys, &mut state, label)?;
                 let mut rec = Recorder::new(&sys, monitors.clone(), out).for_stages(&scenarios);
                 rec.restage(&sys, monitors);
-                start(&sys, &mut state, &mut stepper, &mut rec, &mut saver)?;
-                (state, stepper, rec)
+                let started = start(&sys, &mut state, &mut stepper, &mut rec, &mut saver);
+                (state, stepper, rec, started)
             }
         };
         let progress = progress.get_or_insert_with(|| Progress::new(progress_mode(opts.progress), &state.motion));
         let (t0, s0) = (state.motion.time, state.motion.step);
         let until = at.analysis.kind == AnalysisKind::Static || scenario.stage[k].equilibrium;
         let stop = opts.stop.as_ref();
-        let result = advance(&sys, (&mut state, &mut stepper), &mut rec, progress, stop, &mut saver, until);
+        let result = started
+            .and_then(|_| advance(&sys, (&mut state, &mut stepper), &mut rec, progress, stop, &mut saver, until));
         rec.cut_log.append(&mut stepper.cuts);
         last = match result {
             Ok(End::Completed(m)) => (Status::Completed, m),
@@ -125,6 +132,9 @@ pub(super) fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<
             last.1 = format!("stage '{}': {}", scenario.stage[k].name, last.1);
             break;
         }
+    }
+    if let Some(p) = progress.as_mut() {
+        p.finish();
     }
     let (sys, state, stepper, rec) = current.expect("a staged scenario has a stage");
     if let Err(e) = write_stages(out, &rows) {
