@@ -19,7 +19,7 @@ use rayon::prelude::*;
 
 use nmm3d_geom::{orientation, polygon, Aabb, ConvexPolyhedron, Face, Plane, Vec3};
 
-use super::excavate::excavate;
+use super::excavate::split_pieces;
 use super::shape::shape_to_pieces;
 use super::tags;
 use super::union_find::UnionFind;
@@ -170,6 +170,21 @@ fn extent(p: &ConvexPolyhedron, n: &Vec3) -> (f64, f64) {
         let t = n.dot(v);
         (lo.min(t), hi.max(t))
     })
+}
+
+/// Excavation `e` applied to block `b`: what stays of it, and, if `keep`, its plug blocks.
+fn excavate(b: RawBlock, holes: &[ConvexPolyhedron], e: usize, keep: bool) -> Vec<RawBlock> {
+    let hb = holes.iter().map(|h| h.aabb()).reduce(|a, c| a.union(&c)).expect("a shape has a piece");
+    // A plug of an earlier staged excavation is not rock to excavate again now.
+    if !b.aabb().overlaps(&hb) || (keep && b.excavation.is_some()) {
+        return vec![b];
+    }
+    let (rock, plug) = split_pieces(b.pieces, holes, e, keep);
+    let tagged = |pieces: Vec<ConvexPolyhedron>, excavation| {
+        let blocks = if pieces.is_empty() { Vec::new() } else { regroup(b.body, pieces) };
+        blocks.into_iter().map(move |r| RawBlock { excavation, ..r })
+    };
+    tagged(rock, b.excavation).chain(tagged(plug, Some(e))).collect()
 }
 
 /// Connected components of pieces through glue faces.

@@ -1,13 +1,12 @@
 //! Excavations: the rock inside an excavation's shape is removed at once, or, for an
 //! excavation a stage removes (`[[stage]] excavate`), kept as blocks of its own until that
-//! stage (the *plug*, `RawBlock::excavation`). Both split the rock by the same planes
+//! stage (the *plug*, `RawBlock::excavation`; `cutting` regroups and tags the pieces). Both split the rock by the same planes
 //! (`nmm3d_geom::decompose::split_by_convex`), so the rock left around the opening is the same
 //! either way and plug + rock is the rock mass exactly.
 
 use nmm3d_geom::decompose::{split_by_convex, NewFaceTags};
 use nmm3d_geom::{polygon, ConvexPolyhedron, FaceTag};
 
-use super::cutting::{regroup, RawBlock};
 use super::tags;
 
 const GLUE_TAGS: NewFaceTags = NewFaceTags { glue: tags::GLUE };
@@ -16,16 +15,15 @@ const GLUE_TAGS: NewFaceTags = NewFaceTags { glue: tags::GLUE };
 /// diagonal).
 const PROBE: f64 = 1e-7;
 
-/// Excavation `e` (convex parts `holes`) applied to block `b`: what stays of it, and, if `keep`,
-/// the plug blocks inside the opening.
-pub(super) fn excavate(b: RawBlock, holes: &[ConvexPolyhedron], e: usize, keep: bool) -> Vec<RawBlock> {
-    let hb = holes.iter().map(|h| h.aabb()).reduce(|a, c| a.union(&c)).expect("a shape has a piece");
-    // A plug of an earlier staged excavation is not rock to excavate again now.
-    if !b.aabb().overlaps(&hb) || (keep && b.excavation.is_some()) {
-        return vec![b];
-    }
-    let (body, excavation) = (b.body, b.excavation);
-    let mut rock = b.pieces;
+/// Excavation `e` (convex parts `holes`) applied to a block's pieces: the pieces that stay, and,
+/// if `keep`, the plug's pieces inside the opening (empty otherwise).
+pub(super) fn split_pieces(
+    pieces: Vec<ConvexPolyhedron>,
+    holes: &[ConvexPolyhedron],
+    e: usize,
+    keep: bool,
+) -> (Vec<ConvexPolyhedron>, Vec<ConvexPolyhedron>) {
+    let mut rock = pieces;
     let mut plug = Vec::new();
     for hole in holes {
         let mut next = Vec::with_capacity(rock.len());
@@ -40,17 +38,8 @@ pub(super) fn excavate(b: RawBlock, holes: &[ConvexPolyhedron], e: usize, keep: 
         }
         rock = next;
     }
-    let mut out = if rock.is_empty() { Vec::new() } else { tagged(regroup(body, rock), excavation) };
-    if keep && !plug.is_empty() {
-        let plug = plug.into_iter().map(|p| glue_inner_faces(p, holes, e)).collect();
-        out.extend(tagged(regroup(body, plug), Some(e)));
-    }
-    out
-}
-
-fn tagged(mut blocks: Vec<RawBlock>, excavation: Option<usize>) -> Vec<RawBlock> {
-    blocks.iter_mut().for_each(|b| b.excavation = excavation);
-    blocks
+    let plug = if keep { plug.into_iter().map(|p| glue_inner_faces(p, holes, e)).collect() } else { Vec::new() };
+    (rock, plug)
 }
 
 /// A plug piece's face on the plane between two convex parts of the opening lies inside the

@@ -1,9 +1,12 @@
 //! The façade: build the system, step to the end, record monitors and frames, write outputs.
 
+mod advance;
+mod options;
 mod recorder;
 mod run;
 mod stages;
 mod summary;
 
 pub use crate::output::summary::{RunSummary, Status};
-pub use run::{run, RunOptions, RunOutcome, StopRequest};
+pub use options::{RunOptions, RunOutcome, StopRequest};
+pub use run::run;

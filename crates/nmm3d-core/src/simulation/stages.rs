@@ -18,8 +18,9 @@ use crate::system::System;
 use crate::time::carry::carry;
 use crate::time::{State, Stepper};
 
+use super::advance::{advance, failed, progress_mode, start, write_summary, End, Saver};
+use super::options::{RunOptions, RunOutcome};
 use super::recorder::Recorder;
-use super::run::{advance, failed, progress_mode, start, write_summary, End, RunOptions, RunOutcome, Saver};
 use super::summary::{summary, Ending};
 
 /// Each stage's scenario, its end time [s] in `analysis.duration`.
