@@ -478,6 +478,9 @@ def write(stats, kb, key, s, run, ev, load, args, bolts) -> None:
         "![failure sequence](../images/tunnel_key_blocks_frames.png)",
         "",
         *bolted_section(key, bolts, run),
+        "The same tunnel at 30 m depth, excavated after in-situ equilibrium (a staged analysis: the roof key block "
+        "clamped by the redistributed stress): [tunnel-staged.md](tunnel-staged.md).",
+        "",
     ]
     PAGE.write_text("\n".join(lines))
     print(f"wrote {PAGE}")
