@@ -1,8 +1,8 @@
 //! Excavations: the rock inside an excavation's shape is removed at once, or, for an
 //! excavation a stage removes (`[[stage]] excavate`), kept as blocks of its own until that
-//! stage (the *plug*, `RawBlock::excavation`; `cutting` regroups and tags the pieces). Both split the rock by the same planes
-//! (`nmm3d_geom::decompose::split_by_convex`), so the rock left around the opening is the same
-//! either way and plug + rock is the rock mass exactly.
+//! stage (the *plug*, `RawBlock::excavation`; `cutting` regroups and tags the pieces). Both
+//! split the rock by the same planes (`nmm3d_geom::decompose::split_by_convex`), so the rock
+//! left around the opening is the same either way and plug + rock is the rock mass exactly.
 
 use nmm3d_geom::decompose::{split_by_convex, NewFaceTags};
 use nmm3d_geom::{polygon, ConvexPolyhedron, FaceTag};
