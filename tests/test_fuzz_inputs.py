@@ -19,7 +19,8 @@ import nmm3d
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 BASES = {name: nmm3d.load(EXAMPLES / name).to_dict()
-         for name in ("incline.toml", "goodman_tunnel.toml", "bolted_block.toml", "newmark_sliding_block.toml")}
+         for name in ("incline.toml", "goodman_tunnel.toml", "bolted_block.toml", "newmark_sliding_block.toml",
+                      "staged_incline.toml")}
 
 numbers = st.one_of(st.floats(allow_nan=True, allow_infinity=True), st.integers(-10**20, 10**20),
                     st.sampled_from([0.0, -1.0, 1e-300, 5e-324, 1e300, 4294967295, -0.0]))
@@ -77,6 +78,38 @@ def test_a_mutated_scenario_is_loaded_or_refused_by_name(case):
         nmm3d.keyblocks(scenario)
     except nmm3d.NmmError:
         pass
+
+
+SET_KEYS = st.sampled_from(["joint.face.friction_angle", "joint.face.cohesion", "analysis.dt", "analysis.kind",
+                            "material.rock.young", "water.table", "seismic.coefficient", "bolt.b1.stiffness",
+                            "body.cube.fixed", "cover.size", "excavation.0.name", "joint.nope.friction_angle",
+                            "", ".", "joint..x", "stage.hold.duration"])
+
+
+@st.composite
+def mutated_stages(draw):
+    """The staged incline with its stages' keys, names and `set` tables mutated."""
+    d = copy.deepcopy(BASES["staged_incline.toml"])
+    for _ in range(draw(st.integers(1, 3))):
+        stage = draw(st.sampled_from(d["stage"]))
+        action = draw(st.sampled_from(["set", "set", "value", "install", "excavate"]))
+        if action == "set":
+            stage.setdefault("set", {})[draw(st.one_of(SET_KEYS, st.text(max_size=12)))] = draw(values)
+        elif action == "value":
+            stage[draw(st.sampled_from(["name", "duration", "equilibrium", "set"]))] = draw(values)
+        else:
+            stage[action] = draw(st.one_of(values, st.lists(st.sampled_from(["b1", "hold", "x", ""]), max_size=3)))
+    return d
+
+
+@settings(max_examples=200, deadline=None, derandomize=True,
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+@given(mutated_stages())
+def test_a_mutated_stage_is_loaded_or_refused_by_name(d):
+    try:
+        nmm3d.Scenario.from_dict(d)
+    except nmm3d.ScenarioError as e:
+        assert str(e).strip()
 
 
 def test_the_fuzzer_mutates():
