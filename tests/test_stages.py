@@ -267,3 +267,17 @@ def test_a_study_ends_a_staged_runs_last_stage_at_the_criterion_time():
     s = nmm3d.Scenario.from_dict(d, run_length(d, 1.0))
     assert [st["duration"] for st in s.to_dict()["stage"]] == pytest.approx([0.2, 0.5, 0.3])
     assert run_length({"analysis": {}}, 2.0) == ["analysis.duration=2.0"]
+
+
+def test_an_earthquake_coefficient_set_by_a_stage_starts_the_slide(tmp_path):
+    """The cube held at 40° until a stage sets k_h = 0.3 towards +x (down the dip): it slides at
+    g[(sin 30° + k cos 30°) − tan 40° (cos 30° − k sin 30°)] from that stage on."""
+    d = nmm3d.load(INCLINE).to_dict()
+    d["stage"], d["bolt"] = d["stage"][:2], []
+    d["stage"][1]["set"] = {"seismic.coefficient": [0.3, 0.0, 0.0]}
+    r = nmm3d.Scenario.from_dict(d).run(out=tmp_path / "run")
+    assert r.completed, r.summary["message"]
+    c, s, k = math.cos(math.radians(30)), math.sin(math.radians(30)), 0.3
+    a = G * ((s + k * c) - math.tan(math.radians(40)) * (c - k * s))
+    assert abs(at(r, "cube.velocity.x", 0.2)) < 1e-4
+    assert at(r, "cube.velocity.x", 0.7) == pytest.approx(a * 0.5 * c, rel=0.01)
