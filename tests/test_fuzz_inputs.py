@@ -94,7 +94,9 @@ def mutated_stages(draw):
         stage = draw(st.sampled_from(d["stage"]))
         action = draw(st.sampled_from(["set", "set", "value", "install", "excavate"]))
         if action == "set":
-            stage.setdefault("set", {})[draw(st.one_of(SET_KEYS, st.text(max_size=12)))] = draw(values)
+            if not isinstance(stage.get("set"), dict):
+                stage["set"] = {}
+            stage["set"][draw(st.one_of(SET_KEYS, st.text(max_size=12)))] = draw(values)
         elif action == "value":
             stage[draw(st.sampled_from(["name", "duration", "equilibrium", "set"]))] = draw(values)
         else:
