@@ -35,6 +35,14 @@ name = "j"
 friction_angle = 30.0
 """
 
+#: A 2 m column of the rock, on its joint.
+COLUMN = """[[body]]
+name = "column"
+material = "rock"
+joint = "j"
+shape = { box = { min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 2.0] } }
+"""
+
 HEAD = """
 [analysis]
 dt = 0.002
@@ -51,11 +59,7 @@ material = "rock"
 fixed = true
 shape = { box = { min = [-1.0, -1.0, -1.0], max = [2.0, 2.0, 0.0] } }
 
-[[body]]
-name = "column"
-material = "rock"
-joint = "j"
-shape = { box = { min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 2.0] } }
+""" + COLUMN + """
 
 [[excavation]]
 name = "prop"
@@ -151,11 +155,7 @@ material = "rock"
 fixed = true
 shape = { box = { min = [-0.5, -0.5, 2.0], max = [1.5, 1.5, 3.0] } }
 
-[[body]]
-name = "column"
-material = "rock"
-joint = "j"
-shape = { box = { min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 2.0] } }
+""" + COLUMN + """
 
 [[excavation]]
 name = "upper"

@@ -56,7 +56,7 @@ fn glue_inner_faces(mut p: ConvexPolyhedron, holes: &[ConvexPolyhedron], e: usiz
 }
 
 /// Whether a face tag is on excavation `e`'s surface.
-pub fn on_excavation(t: FaceTag, e: usize) -> bool {
+fn on_excavation(t: FaceTag, e: usize) -> bool {
     let first = tags::excavation(e, 0).0;
     (first..first + 1024).contains(&t.0)
 }

@@ -46,11 +46,7 @@ impl Geometry {
     /// excavation a stage removes stays as plug blocks (after the rock blocks, which are
     /// numbered as without stages) until that stage.
     pub fn staged(s: &Scenario) -> Self {
-        let keep: Vec<bool> = s
-            .excavation
-            .iter()
-            .map(|e| s.stage.iter().any(|st| e.name.as_ref().is_some_and(|n| st.excavate.contains(n))))
-            .collect();
+        let keep: Vec<bool> = (0..s.excavation.len()).map(|e| s.excavating_stage(e).is_some()).collect();
         Self::cut_keeping(s, &keep)
     }
 
@@ -64,7 +60,14 @@ impl Geometry {
             map[i] = Some(blocks.len());
             blocks.push(b.clone());
         }
-        (Self { blocks, ..self.clone() }, map)
+        let g = Self {
+            blocks,
+            materials: self.materials.clone(),
+            features: self.features.clone(),
+            report: self.report.clone(),
+            origin: self.origin,
+        };
+        (g, map)
     }
 
     fn cut_keeping(s: &Scenario, keep: &[bool]) -> Self {

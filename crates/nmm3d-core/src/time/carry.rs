@@ -6,6 +6,7 @@
 //! over; points on a removed plug go with it. New bolts start unstressed where the rock is.
 
 use nmm3d_geom::Vec3;
+use rustc_hash::FxHashMap;
 
 use super::state::State;
 use super::stepper::Stepper;
@@ -95,22 +96,23 @@ pub fn carry(old: &System, new: &System, blocks: &[Option<usize>], state: &State
 /// Each new spring takes the state of the same bolt's same spring before; a bolt installed now
 /// starts unstressed at the rock's current displacement `u`.
 fn bolts(old: &System, new: &System, states: &[BoltState], u: &[Vec3]) -> Vec<BoltState> {
-    let ordinal = |springs: &[crate::element::bolt::BoltSpring], k: usize| {
-        springs[..k].iter().filter(|s| s.bolt == springs[k].bolt).count()
-    };
-    fn name(sys: &System, k: usize) -> &str {
-        &sys.scenario.bolt[sys.bolts[k].bolt].name
-    }
-    (0..new.bolts.len())
-        .map(|k| {
-            let before = (0..old.bolts.len())
-                .find(|&j| name(old, j) == name(new, k) && ordinal(&old.bolts, j) == ordinal(&new.bolts, k));
-            match before {
-                Some(j) => states[j],
-                None => BoltState { installed: new.bolts[k].relative(u), ..BoltState::default() },
-            }
+    let before: FxHashMap<(&str, usize), BoltState> = springs(old).zip(states.iter().copied()).collect();
+    springs(new)
+        .zip(&new.bolts)
+        .map(|(key, b)| {
+            before.get(&key).copied().unwrap_or(BoltState { installed: b.relative(u), ..Default::default() })
         })
         .collect()
+}
+
+/// Each spring of a model as (its bolt's name, its place among that bolt's springs).
+fn springs(sys: &System) -> impl Iterator<Item = (&str, usize)> {
+    let mut seen: FxHashMap<usize, usize> = FxHashMap::default();
+    sys.bolts.iter().map(move |b| {
+        let k = seen.entry(b.bolt).or_default();
+        *k += 1;
+        (sys.scenario.bolt[b.bolt].name.as_str(), *k - 1)
+    })
 }
 
 /// The points between kept blocks, renumbered; the broad phase and travel start afresh.

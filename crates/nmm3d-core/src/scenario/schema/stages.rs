@@ -43,16 +43,16 @@ impl Scenario {
         !self.stage.is_empty()
     }
 
+    /// The stage that removes excavation `e`, if one does.
+    pub fn excavating_stage(&self, e: usize) -> Option<usize> {
+        let name = self.excavation[e].name.as_ref()?;
+        self.stage.iter().position(|s| s.excavate.contains(name))
+    }
+
     /// Which excavations are open during stage `k`: those no stage names, and those a stage up
     /// to `k` removes.
     pub fn open_excavations(&self, k: usize) -> Vec<bool> {
-        self.excavation
-            .iter()
-            .map(|e| match self.stage.iter().position(|s| e.name.as_ref().is_some_and(|n| s.excavate.contains(n))) {
-                Some(j) => j <= k,
-                None => true,
-            })
-            .collect()
+        (0..self.excavation.len()).map(|e| self.excavating_stage(e).is_none_or(|j| j <= k)).collect()
     }
 
     /// The scenario stage `k` runs: this one with the `set`s of the stages up to `k` applied, the
@@ -62,20 +62,18 @@ impl Scenario {
         s.stage.clear();
         let later: Vec<&String> = self.stage.iter().skip(k + 1).flat_map(|st| &st.install).collect();
         s.bolt.retain(|b| !later.contains(&&b.name));
-        let sets: Vec<(String, &toml::Value)> = self.stage[..=k]
-            .iter()
-            .flat_map(|st| st.set.iter().map(move |(key, v)| (format!("stage.{}.set.{key}", st.name), v)))
-            .collect();
+        let sets: Vec<(&String, &String, &toml::Value)> =
+            self.stage[..=k].iter().flat_map(|st| st.set.iter().map(move |(key, v)| (&st.name, key, v))).collect();
         if sets.is_empty() {
             return Ok(s);
         }
         let mut tree = toml::Value::try_from(&s).map_err(|e| ("stage".to_string(), e.to_string()))?;
-        for (at, v) in sets {
-            let key = &at[at.find(".set.").expect("made above") + 5..];
+        for (stage, key, v) in sets {
+            let at = format!("stage.{stage}.set.{key}");
             if !STAGE_SETTABLE.contains(&key.split('.').next().unwrap_or("")) {
-                return Err((at.clone(), format!("a stage can change only {}", STAGE_SETTABLE.join(", "))));
+                return Err((at, format!("a stage can change only {}", STAGE_SETTABLE.join(", "))));
             }
-            super::super::overrides::set(&mut tree, key, v.clone()).map_err(|(_, r)| (at.clone(), r))?;
+            super::super::overrides::set(&mut tree, key, v.clone()).map_err(|(_, r)| (at, r))?;
         }
         serde_path_to_error::deserialize(tree).map_err(|e| (e.path().to_string(), e.inner().message().to_string()))
     }
