@@ -16,13 +16,28 @@ from nmm3d.stereonet import orientations, plot_stereonet
 ROOT = Path(__file__).resolve().parent.parent
 CASES = [
     ("tunnel_key_blocks.toml", "Tunnel key blocks (thesis Part 5)",
-     "Thesis: 12 blocks, 277.45 m³ of rock, 25.65 m³ excavated (joint positions not published)."),
+     "Thesis: 12 blocks, 277.45 m³ of rock, 25.65 m³ excavated (joint positions not published).",
+     {"body": "rock mass", "blocks": 12, "volume": 277.4533, "excavated": 25.6507}),
     ("rock_slope.toml", "Rock slope (thesis Part 5)",
-     "Thesis: 45 potentially sliding blocks, mean 1.230 m³, smallest 0.416 m³, largest 2.769 m³."),
+     "Thesis: 45 potentially sliding blocks, mean 1.230 m³, smallest 0.416 m³, largest 2.769 m³.",
+     {"body": "layer", "blocks": 45, "volume": 45 * 1.22995, "mean": 1.22995, "smallest": 0.4155,
+      "largest": 2.7687}),
 ]
 
 
-def section(example: str, title: str, thesis: str, tmp: Path) -> list[str]:
+def against_thesis(b: dict, report: dict, thesis: dict) -> list[str]:
+    """The blocks of the thesis's body (the rock mass, the slope's layer) against its numbers."""
+    v = b["volume"][b["body"] == thesis["body"]]
+    ours = {"blocks": int(len(v)), "volume": v.sum(), "mean": v.mean(), "smallest": v.min(), "largest": v.max(),
+            "excavated": report["excavated_volume"]}
+    fmt = lambda key, x: f"{x:d}" if key == "blocks" else f"{x:.4f}"  # noqa: E731
+    rows = [f"| {key} | {fmt(key, ours[key])} | {fmt(key, thesis[key])} | {100 * (ours[key] / thesis[key] - 1):+.1f} % |"
+            for key in ("blocks", "volume", "mean", "smallest", "largest", "excavated") if key in thesis]
+    return [f"Body `{thesis['body']}` against the thesis (volumes in m³):", "",
+            "| | nmm3d | thesis | difference |", "|---|---:|---:|---:|", *rows, ""]
+
+
+def section(example: str, title: str, thesis: str, numbers: dict, tmp: Path) -> list[str]:
     scenario = nmm3d.load(ROOT / "examples" / example)
     r = scenario.write_blocks(tmp / example)
     b = scenario.blocks()
@@ -33,6 +48,7 @@ def section(example: str, title: str, thesis: str, tmp: Path) -> list[str]:
              "|---:|---:|---:|---:|---:|---|---:|",
              f"| {r['blocks']} | {r['non_convex_blocks']} | {r['pieces']} | {r['total_volume']:.4f} | "
              f"{r['excavated_volume']:.4f} | {r['slivers_merged']} / {r['slivers_dropped']} | {r['cutting_seconds']:.3f} |", ""]
+    lines += against_thesis(b, r, numbers)
     lines += ["Joints: " + "; ".join(label for label, _, _ in orientations(scenario.to_dict())) + ".", "",
               f"![stereonet](images/{image.name})", ""]
     for body in sorted(set(b["body"].tolist())):

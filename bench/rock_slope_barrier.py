@@ -184,7 +184,7 @@ def write(rows: list, duration: float) -> None:
              "height of 1700 mm are set at the transition zone between the highway and the potential failure "
              "slope … most of falling blocks are fended within the transition zone; some small-volume blocks "
              "fall outside to the road\".", "",
-             "`examples/rock_slope_bollards.toml`: the layer of `examples/rock_slope.toml` (46 blocks, 1.5 m thick, "
+             "`examples/rock_slope_bollards.toml`: the layer of `examples/rock_slope.toml` (45 blocks, 1.5 m thick, "
              "on the 35° slope) at φ = 10° (case A, free collapse) against eleven fixed bollards, 0.45 × 0.45 × "
              "1.7 m, at x = 16.5–16.95 m, 0.45 m apart across the 10 m wide model (the thesis gives their size "
              "and place, not their spacing; no wire netting, as in the thesis). Without bollards: the same file "
