@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 
 import nmm3d
+from rock_slope import measuring_blocks  # bench/, the script's folder
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLE = ROOT / "examples" / "rock_slope.toml"
@@ -175,29 +176,6 @@ def sequence_picture(out: Path, blocks: dict[int, dict], times: list[float], pat
     plt.close(fig)
 
 
-def histories_picture(out: Path, path: Path) -> None:
-    """The nine measuring blocks' centroid displacements in x, y and z (thesis Fig. 5-4)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    h = nmm3d.Result(out).history
-    names = sorted({k.split(".")[0] for k in h if k.startswith("L1-")})
-    fig, axes = plt.subplots(1, 3, figsize=(13, 3.6), sharex=True)
-    for ax, c in zip(axes, "xyz"):
-        for name in names:
-            ax.plot(h["time"], h[f"{name}.displacement.{c}"], label=name, lw=1.2)
-        ax.set_title(f"displacement in {c}")
-        ax.set_xlabel("time [s]")
-        ax.grid(alpha=0.3)
-    axes[0].set_ylabel("centroid displacement [m]")
-    axes[2].legend(fontsize=7, ncol=2)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-
-
 def monitor_blocks(d: dict, blocks_csv: Path) -> dict[str, int]:
     """The block under each measuring block's monitor point (the nearest centroid)."""
     rows = list(csv.DictReader(open(blocks_csv)))
@@ -229,7 +207,7 @@ def main() -> None:
     model_picture(out, blocks, monitors, IMAGES / "rock_slope_model.png")
     times = [t for t in (0.0, 1.0, 2.0, 3.0, 5.0, args.duration) if t <= args.duration]
     sequence_picture(out, blocks, times, IMAGES / "rock_slope_sequence.png")
-    histories_picture(out, IMAGES / "rock_slope_histories.png")
+    measuring_blocks(nmm3d.Result(out).history, IMAGES / "rock_slope_histories.png")  # Fig. 5-4
     ends = {b: where(p) for b, p in final_centroids(out, list(blocks)).items()}
     s["layer_elements"] = layer_elements(out, blocks)
     write(s, blocks, monitors, ends, load, args)
