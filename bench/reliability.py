@@ -10,8 +10,12 @@ exit status and no traceback, so every row of the table is a regression test.
 
 from __future__ import annotations
 
+import argparse
+import copy
+import math
 import os
 import platform
+import random
 import subprocess
 import sys
 import tempfile
@@ -54,6 +58,13 @@ select = { body = "cube" }
 quantities = ["displacement"]
 """
 
+CUBE_ON_BASE = CUBE + """
+[[body]]
+name = "base"
+material = "rock"
+fixed = true
+shape = { box = { min = [-1.0, -1.0, -1.0], max = [2.0, 2.0, 0.0] } }
+"""
 SET = '\n[[joint_set]]\ndip = 30.0\ndip_direction = 90.0\nspacing = 0.25\njoint = "j"\n'
 OK, FAILED, INPUT = 0, 1, 2
 
@@ -129,6 +140,10 @@ def _cases() -> list[Case]:
         Case("plot inputs", "plot of a non-UTF-8 history.csv", ["plot", "{d}/out"], INPUT, prepare=_bad_history),
         Case("plot inputs", "plot into a folder that does not exist yet",
              ["plot", "{d}/out", "--out", "{d}/new/dir/h.png"], OK, prepare=_used),
+        Case("check agrees with run", "a monitor point in no block (found once the blocks are cut)",
+             [*check, "--set", "monitor.cube.select={ point = [5.0, 5.0, 5.0] }"], INPUT),
+        Case("check agrees with run", "two bodies overlapping (found by the first contact detection)",
+             [*check, "--set", "body.cube.shape.box.min=[0.0, 0.0, -0.2]"], INPUT, CUBE_ON_BASE),
         Case("divergence", "10⁵ g with no room to cut the step",
              [*run, "--set", "analysis.min_dt_ratio=1", "--set", "analysis.divergence_ratio=2", "--set",
               "analysis.gravity=[0.0, 0.0, -1.0e6]"], FAILED),
@@ -156,7 +171,86 @@ def run_case(c: Case) -> dict:
     return {"exit": r.returncode, "traceback": "Traceback" in r.stderr, "message": message, "seconds": seconds}
 
 
+#: The examples the agreement campaign mutates.
+AGREEMENT_BASES = ("incline.toml", "goodman_tunnel.toml", "bolted_block.toml", "staged_incline.toml",
+                   "rock_slope.toml", "tunnel_key_blocks.toml", "sliding_wedge.toml", "roof_wedge.toml")
+AGREEMENT_VALUES = [math.nan, math.inf, -math.inf, 0.0, -1.0, 1e-300, 5e-324, 1e300, 4294967295, "x", [], {}, None,
+                    True, [math.nan, 0, 0], 1e-9, 1e9, [0, 0]]
+
+
+def mutate(d: dict, rng: random.Random) -> dict:
+    """One or two values replaced, scaled or removed anywhere in the scenario."""
+    d = copy.deepcopy(d)
+    for _ in range(rng.randint(1, 2)):
+        where = [p for p in _paths(d) if p]
+        path = rng.choice(where)
+        parent = d
+        for k in path[:-1]:
+            parent = parent[k]
+        old, action = parent[path[-1]], rng.choice(["replace", "replace", "scale", "remove"])
+        if action == "scale" and isinstance(old, (int, float)) and not isinstance(old, bool):
+            parent[path[-1]] = old * rng.choice([1e-6, 1e-3, -1.0, 10.0, 1e3, 1e6, 1.0 + 1e-12])
+        elif action == "remove" and isinstance(parent, dict):
+            del parent[path[-1]]
+        else:
+            parent[path[-1]] = copy.deepcopy(rng.choice(AGREEMENT_VALUES))
+    return d
+
+
+def _paths(node, prefix=()):
+    yield prefix
+    items = node.items() if isinstance(node, dict) else enumerate(node) if isinstance(node, list) else ()
+    for k, v in items:
+        yield from _paths(v, prefix + (k,))
+
+
+def agreement(n: int, seed: int) -> dict:
+    """`n` mutated examples through load, check, blocks, keyblocks and a two-step run: where
+    `check` and `run` disagree, and any exception but nmm3d's own errors."""
+    import nmm3d
+
+    bases = {b: nmm3d.load(EXAMPLES / b).to_dict() for b in AGREEMENT_BASES}
+    rng, counts, findings = random.Random(seed), {"loaded": 0, "refused by check": 0, "ran": 0}, []
+    for i in range(n):
+        name = rng.choice(AGREEMENT_BASES)
+        phase = "load"
+        try:
+            s = nmm3d.Scenario.from_dict(mutate(bases[name], rng))
+            counts["loaded"] += 1
+            phase = "check"
+            try:
+                s.check()
+                refused = None
+            except nmm3d.ScenarioError as e:
+                refused, counts["refused by check"] = str(e), counts["refused by check"] + 1
+            phase = "blocks"
+            s.blocks()
+            nmm3d.keyblocks(s)
+            phase = "run"
+            short = s.with_overrides(f"analysis.duration={2 * s.to_dict()['analysis']['dt']}", "analysis.max_steps=5",
+                                     "analysis.output_interval=0")
+            with tempfile.TemporaryDirectory() as tmp:
+                try:
+                    short.run(out=Path(tmp) / "o")
+                    counts["ran"] += 1
+                    if refused:
+                        findings.append(f"{name}: check refused, run ran: {refused[:120]}")
+                except nmm3d.ScenarioError as e:
+                    if not refused:
+                        findings.append(f"{name}: check passed, run refused: {str(e)[:120]}")
+        except (nmm3d.ScenarioError, nmm3d.NmmError) as e:
+            if not str(e).strip():
+                findings.append(f"{name}: {phase}: an error without a message")
+        except Exception as e:  # noqa: BLE001 — the campaign's point is to find these
+            findings.append(f"{name}: {phase}: {type(e).__name__}: {str(e)[:120]}")
+    return {"cases": n, "seed": seed, "counts": counts, "findings": findings}
+
+
 def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__)
+    p.add_argument("--agreement", type=int, default=300, help="mutated scenarios of the agreement campaign")
+    p.add_argument("--seed", type=int, default=1)
+    args = p.parse_args()
     rows = [(c, run_case(c)) for c in _cases()]
     out = [
         "# Reliability: bad inputs and hostile conditions",
@@ -174,8 +268,18 @@ def main() -> None:
         msg = r["message"].replace("|", "\\|")[:160]
         out.append(f"| {c.group} | {c.what} | {r['exit']} | {c.expect} | {'yes' if r['traceback'] else 'no'} "
                    f"| {r['seconds']:.2f} | {msg} |")
+    a = agreement(args.agreement, args.seed)
+    out += ["", "## `check` and `run` agree", "",
+            f"`python bench/reliability.py --agreement {a['cases']} --seed {a['seed']}`: {a['cases']} examples "
+            f"({', '.join(AGREEMENT_BASES)}) with one or two values anywhere replaced by NaN, ±inf, 0, −1, 1e±300, "
+            "5e-324, 2³²−1, strings, lists, tables, null or booleans, scaled by 10⁻⁶…10⁶, or removed, each through "
+            "load, `check`, `blocks`, `keyblocks` and a two-step run: "
+            f"{a['counts']['loaded']} loaded, {a['counts']['refused by check']} of those refused by `check` (a model no "
+            f"run could start: a monitor, bolt or load in no block, bodies overlapping), {a['counts']['ran']} ran. "
+            f"Disagreements and unexpected exceptions: **{len(a['findings'])}**"
+            + ("." if not a["findings"] else ":"), *[f"* {x}" for x in a["findings"]]]
     (ROOT / "docs" / "reliability.md").write_text("\n".join(out) + "\n")
-    bad = [c.what for c, r in rows if r["exit"] != c.expect or r["traceback"]]
+    bad = [c.what for c, r in rows if r["exit"] != c.expect or r["traceback"]] + a["findings"]
     print(f"{len(rows)} cases, {len(bad)} unexpected: {bad}")
 
 

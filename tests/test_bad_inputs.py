@@ -83,3 +83,41 @@ def test_a_tunnel_of_billions_of_segments_is_refused_at_once(tmp_path):
                         "excavation.0.shape.tunnel.segments=4294967295"], capture_output=True, text=True, timeout=60)
     assert r.returncode == EXIT_INPUT, r.stderr
     assert "excavation[0].shape.tunnel" in r.stderr and "10000" in r.stderr
+
+
+MODEL_ERRORS = {
+    # a monitor point in no block: found only once the blocks are cut
+    "monitor": (GOOD.replace('select = { body = "cube" }', "select = { point = [5.0, 5.0, 5.0] }"),
+                "monitor.cube.select.point"),
+    # two bodies overlapping: found only by the first contact detection
+    "overlap": (GOOD + '\n[[body]]\nname = "other"\nmaterial = "rock"\n'
+                'shape = { box = { min = [0.5, 0.5, 0.5], max = [1.5, 1.5, 1.5] } }\n', "overlaps"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(MODEL_ERRORS))
+def test_check_refuses_what_run_refuses_once_the_model_is_built(tmp_path, case):
+    """`check` builds what a run builds before its first step: both exit 2 with one message."""
+    text, named = MODEL_ERRORS[case]
+    p = write(tmp_path, text)
+    checked, ran = nmm3d("check", str(p)), nmm3d("run", str(p), "--out", str(tmp_path / "out"))
+    assert checked.returncode == ran.returncode == EXIT_INPUT, (checked.stdout, checked.stderr, ran.stderr)
+    assert named in checked.stderr and "Traceback" not in checked.stderr, checked.stderr
+    assert checked.stderr == ran.stderr
+
+
+def test_check_reports_the_model_it_built(tmp_path):
+    r = nmm3d("check", str(write(tmp_path, GOOD)))
+    assert r.returncode == 0, r.stderr
+    assert "the model: 1 blocks" in r.stdout and "MEs" in r.stdout
+
+
+def test_a_study_refuses_a_model_no_run_could_start(tmp_path):
+    """A monitor point in no block: the study exits 2 before its first run, as `check` does."""
+    example = os.path.join(os.path.dirname(__file__), "..", "examples", "sliding_wedge.toml")
+    point = "monitor.wedge.select={ point = [50.0, 50.0, 50.0] }"
+    study = nmm3d("study", example, "--out", str(tmp_path / "study"), "--set", point, "--quiet")
+    checked = nmm3d("check", example, "--set", point)
+    assert study.returncode == checked.returncode == EXIT_INPUT, (study.stderr, checked.stderr)
+    assert "monitor.wedge.select.point" in study.stderr and "Traceback" not in study.stderr, study.stderr
+    assert not (tmp_path / "study" / "study.json").exists()

@@ -254,6 +254,8 @@ def test_a_bolt_in_rock_its_own_stage_excavates_stops_the_run_there(tmp_path):
     path = tmp_path / "prop.toml"
     path.write_text(HEAD + bolt + PROP[len(HEAD):].replace('excavate = ["prop"]', 'excavate = ["prop"]\ninstall = ["b1"]'))
     with pytest.raises(nmm3d.ScenarioError, match="bolt.b1"):
+        nmm3d.load(path).check()  # `check` builds every stage's model, as the run will
+    with pytest.raises(nmm3d.ScenarioError, match="bolt.b1"):
         nmm3d.load(path).run(out=tmp_path / "run")
     r = nmm3d.Result(tmp_path / "run")
     assert r.status == "failed"

@@ -140,13 +140,18 @@ def _check_line(c: Check) -> str:
 
 
 def _check(args: argparse.Namespace) -> int:
-    d = load(args.file, args.overrides).to_dict()
+    scenario = load(args.file, args.overrides)
+    d = scenario.to_dict()
     if "study" in d:
         from nmm3d.study.spec import parse
 
         parse(d, str(args.file))
+    model = scenario.check()["stages"]
+    blocks, mes = ", ".join(str(s["blocks"]) for s in model), max(s["manifold_elements"] for s in model)
+    built = (f"the model: {blocks} blocks, {mes} MEs" if len(model) == 1
+             else f"the model by stage: {blocks} blocks, up to {mes} MEs")
     print(f"{args.file}: valid ({len(d['body'])} bodies, {len(d['material'])} materials, "
-          f"{len(d['monitor'])} monitors)")
+          f"{len(d['monitor'])} monitors; {built})")
     return EXIT_OK
 
 

@@ -64,6 +64,13 @@ class Scenario:
         out["fixed"] = out["fixed"].astype(bool)
         return out
 
+    def check(self) -> dict[str, Any]:
+        """Build what a run builds before its first step (blocks, covers, monitors, bolts, loads,
+        the first contact detection; every stage of a staged analysis) without running; raises
+        the :class:`ScenarioError` a run would raise. Returns each stage's ``blocks`` and
+        ``manifold_elements`` under ``"stages"``."""
+        return json.loads(_core.check_json(self._json, self.label))
+
     def write_blocks(self, out: str | os.PathLike[str]) -> dict[str, Any]:
         """Write ``blocks.csv`` and ``blocks.vtu`` to ``out``; returns the report (count,
         volume statistics, smallest block, excavated volume)."""

@@ -72,6 +72,19 @@ fn blocks_json(py: Python<'_>, text: String, label: String, out: Option<PathBuf>
     Ok(v.to_string())
 }
 
+/// Build what a run of the scenario (JSON text) builds before its first step, for every stage:
+/// the error a run would end with, or each stage's blocks and MEs as JSON.
+#[pyfunction]
+fn check_json(py: Python<'_>, text: String, label: String) -> PyResult<String> {
+    let v = py.detach(|| {
+        errors::guard("checking the model", || {
+            let s = input::from_json_str(&text, &label, &[])?;
+            simulation::check(s, &label)
+        })
+    })?;
+    Ok(v.to_string())
+}
+
 /// Cut the rock mass and build its covers (no element matrices); counts and seconds as JSON.
 #[pyfunction]
 fn cover_report_json(py: Python<'_>, text: String, label: String) -> PyResult<String> {
@@ -107,6 +120,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(load_json, m)?)?;
     m.add_function(wrap_pyfunction!(run_json, m)?)?;
     m.add_function(wrap_pyfunction!(blocks_json, m)?)?;
+    m.add_function(wrap_pyfunction!(check_json, m)?)?;
     m.add_function(wrap_pyfunction!(cover_report_json, m)?)?;
     m.add_function(wrap_pyfunction!(block_surfaces_json, m)?)?;
     m.add("NmmError", m.py().get_type::<errors::NmmError>())?;

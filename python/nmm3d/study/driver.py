@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import os
 import time
 from collections.abc import Callable
@@ -46,6 +47,8 @@ class Study:
     def run(self, workers: int | None = None, scheduler: str | None = None, progress: bool = False) -> StudyResult:
         """Run (or resume) the study; ``workers`` local processes (default: the cores), or the
         Dask cluster at ``scheduler`` (e.g. ``"tcp://host:8786"``)."""
+        # The model every run builds: refused here, once, as `nmm3d check` and `run` refuse it.
+        Scenario(json.dumps(self._base), self.scenario.label).check()
         self.out.mkdir(parents=True, exist_ok=True)
         shown = Progress(progress)
         plan = Plan(self._base, self.scenario.label, self.out, self.spec)

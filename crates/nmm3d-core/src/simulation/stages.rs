@@ -24,7 +24,7 @@ use super::recorder::Recorder;
 use super::summary::{summary, Ending};
 
 /// Each stage's scenario, its end time [s] in `analysis.duration`.
-fn stage_scenarios(s: &Scenario, label: &str) -> Result<Vec<Scenario>> {
+pub(super) fn stage_scenarios(s: &Scenario, label: &str) -> Result<Vec<Scenario>> {
     let mut end = 0.0;
     (0..s.stage.len())
         .map(|k| {
