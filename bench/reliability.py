@@ -182,7 +182,7 @@ def mutate(d: dict, rng: random.Random) -> dict:
     """One or two values replaced, scaled or removed anywhere in the scenario."""
     d = copy.deepcopy(d)
     for _ in range(rng.randint(1, 2)):
-        where = [p for p in _paths(d) if p]
+        where = [p for p in scenario_paths(d) if p]
         path = rng.choice(where)
         parent = d
         for k in path[:-1]:
@@ -197,11 +197,12 @@ def mutate(d: dict, rng: random.Random) -> dict:
     return d
 
 
-def _paths(node, prefix=()):
+def scenario_paths(node, prefix=()):
+    """Every path to a value in a nested dict/list (the mutation sites of a scenario)."""
     yield prefix
     items = node.items() if isinstance(node, dict) else enumerate(node) if isinstance(node, list) else ()
     for k, v in items:
-        yield from _paths(v, prefix + (k,))
+        yield from scenario_paths(v, prefix + (k,))
 
 
 def agreement(n: int, seed: int) -> dict:

@@ -211,7 +211,7 @@ def long_run(long: list, duration: float) -> list[str]:
         "",
         "The nine measuring blocks of the thesis's Fig. 5-3 in case A (the example's blocks; named and",
         "monitored in `examples/rock_slope.toml`: layer L1 on the bedrock, groups G1–G3 across the",
-        "slope, blocks B1 at the crest, B4 and B8 at the toe), their centroids' displacements as the",
+        "slope, blocks B1 at the crest, B4 mid-slope and B8 at the toe), their centroids' displacements as the",
         "thesis's Fig. 5-4 plots them:",
         "",
         "![measuring blocks, case A](images/rock_slope_measuring_blocks.png)",

@@ -25,13 +25,13 @@ import numpy as np
 
 import nmm3d
 from rock_slope import measuring_blocks  # bench/, the script's folder
+from rock_slope_barrier import ROAD, TOE, final_blocks
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLE = ROOT / "examples" / "rock_slope.toml"
 PAGE = ROOT / "docs" / "applications" / "rock-slope.md"
 IMAGES = ROOT / "docs" / "images"
 PHI = 10.0
-TOE, ROAD = 14.28148007, 18.0  # x of the slope's toe and of the road's edge [m]
 #: Thesis Part 5: 45 blocks, mean, smallest and largest volume [m³].
 THESIS = {"blocks": 45, "mean": 1.22995, "smallest": 0.4155, "largest": 2.7687}
 #: Layer (L1 on the bedrock, L2 outer) of each block, by its depth below the free face [m].
@@ -64,21 +64,6 @@ def layer_blocks(out: Path) -> dict[int, dict]:
         depth = np.sin(a) * -x + np.cos(a) * (1.831161 - z)  # below the layer's free face
         rows[int(r["id"])] = {"volume": float(r["volume"]), "layer": 1 if depth > LAYER_DEPTH else 2}
     return rows
-
-
-def final_centroids(out: Path, ids: list[int]) -> dict[int, np.ndarray]:
-    """Each block's centroid in the last frame (mean of its ME centroids, weighted by volume)."""
-    import meshio
-
-    m = meshio.read(frames_of(out)[1][-1])
-    of = np.concatenate(m.cell_data["block_id"])
-    cells = [c for block in m.cells for c in block.data]
-    result = {}
-    for b in ids:
-        pts = np.concatenate([m.points[np.asarray(f, dtype=int).ravel()] for c in np.flatnonzero(of == b)
-                              for f in cells[c]])
-        result[b] = pts.mean(axis=0)
-    return result
 
 
 def layer_elements(out: Path, blocks: dict[int, dict]) -> int:
@@ -184,10 +169,11 @@ def monitor_blocks(d: dict, blocks_csv: Path) -> dict[str, int]:
             for m in d["monitor"] if m["name"].startswith("L1-")}
 
 
-def where(p: np.ndarray) -> str:
-    if not 0.0 <= p[1] <= 10.0 or p[2] < -11.0:
+def where(b: dict) -> str:
+    """Where a block ended (a row of `final_blocks`)."""
+    if not 0.0 <= b["y"] <= 10.0 or b["z"] < -11.0:
         return "off the model"
-    return "road" if p[0] > ROAD else "transition zone" if p[0] > TOE else "slope"
+    return "road" if b["x"] > ROAD else "transition zone" if b["x"] > TOE else "slope"
 
 
 def main() -> None:
@@ -208,7 +194,7 @@ def main() -> None:
     times = [t for t in (0.0, 1.0, 2.0, 3.0, 5.0, args.duration) if t <= args.duration]
     sequence_picture(out, blocks, times, IMAGES / "rock_slope_sequence.png")
     measuring_blocks(nmm3d.Result(out).history, IMAGES / "rock_slope_histories.png")  # Fig. 5-4
-    ends = {b: where(p) for b, p in final_centroids(out, list(blocks)).items()}
+    ends = {b["id"]: where(b) for b in final_blocks(out) if b["id"] in blocks}
     s["layer_elements"] = layer_elements(out, blocks)
     write(s, blocks, monitors, ends, load, args)
 
@@ -274,7 +260,7 @@ def write(s: dict, blocks: dict[int, dict], monitors: dict[str, int], ends: dict
         "## The measuring blocks (thesis Fig. 5-3 and 5-4)",
         "",
         "The nine measuring blocks are monitored in the example (`[[monitor]]` L1-G1-B1 … L1-G3-B8: layer L1, "
-        "groups G1–G3, blocks B1 at the crest, B4 and B8 at the toe; the material point at each block's centroid). "
+        "groups G1–G3, blocks B1 at the crest, B4 mid-slope and B8 at the toe; the material point at each block's centroid). "
         "Their centroids' displacements, as the thesis's Fig. 5-4 plots them:",
         "",
         "![the measuring blocks' histories](../images/rock_slope_histories.png)",

@@ -19,6 +19,7 @@ blocks rock). Each case runs in its own process; the machine load is recorded.
 from __future__ import annotations
 
 import argparse
+import copy
 import json
 import math
 import os
@@ -110,10 +111,9 @@ def upward_normal(joint_set: dict) -> np.ndarray:
     return np.array([math.sin(dip) * math.sin(dd), math.sin(dip) * math.cos(dd), math.cos(dip)])
 
 
-def lone_block(stiffness: float, out: str, phi: float = 38.0, duration: float = 2.0) -> float:
-    """How far one block of the layer's shape, 1.5 m thick and 1.245 m long down the slope (between
-    two planes of the set square to the face), walks alone on the 35° bedrock at `phi` from its
-    initial equilibrium [m]."""
+def lone_block_scenario(stiffness: float, phi: float, duration: float) -> dict:
+    """One block of the layer's shape, 1.5 m thick and 1.245 m long down the slope (between two
+    planes of the set square to the face), alone on the 35° bedrock, from its initial equilibrium."""
     import nmm3d
 
     d = study_input(f"joint.rock_joint.friction_angle={phi}", f"analysis.duration={duration}",
@@ -131,7 +131,16 @@ def lone_block(stiffness: float, out: str, phi: float = 38.0, duration: float = 
     k = int(np.flatnonzero(b["body"] == "layer")[0])
     d["monitor"] = [{"name": "block", "select": {"point": [float(b[f"centroid_{a}"][k]) for a in "xyz"]},
                      "quantities": ["displacement"]}]
-    f = nmm3d.Scenario.from_dict(d).run(out=out).summary["final"]
+    return d
+
+
+def lone_block(stiffness: float, out: str, reuse: bool, phi: float = 38.0, duration: float = 2.0) -> float:
+    """How far that block walks at `phi` in `duration` seconds [m]; `reuse`: the run already in `out`."""
+    import nmm3d
+
+    if not (reuse and (Path(out) / "summary.json").exists()):
+        nmm3d.Scenario.from_dict(lone_block_scenario(stiffness, phi, duration)).run(out=out)
+    f = nmm3d.Result(out).summary["final"]
     return math.sqrt(sum(f[f"block.displacement.{a}"] ** 2 for a in "xyz"))
 
 
@@ -150,7 +159,7 @@ def held_base(d: dict) -> dict:
     plane = {"dip": main["dip"], "dip_direction": main["dip_direction"],
              "point": (np.asarray(main["origin"]) + k.max() * main["spacing"] * n).tolist()}
     layer = next(b for b in d["body"] if b["name"] == "layer")
-    base, outer = json.loads(json.dumps(layer)), json.loads(json.dumps(layer))
+    base, outer = copy.deepcopy(layer), copy.deepcopy(layer)
     base.update(name="layer_base", fixed=True)
     base["shape"]["convex"]["faces"].append({**plane, "keep": "below"})
     outer.update(name="layer_outer")
@@ -273,7 +282,7 @@ def main() -> None:
     print("held", stable["held"]["blocks"], flush=True)
     s, per_block = per_block_study(study_input(f"contact.normal_stiffness={STIFF}"), args.tolerance, str(tmp / "stiff"))
     stable["stiff"] = {"runs": s.get("runs"), "bracket": s.get("bracket"), "blocks": per_block}
-    stable["lone"] = {k: lone_block(k, str(tmp / f"lone_{k:g}")) for k in (THESIS_SPRING, STIFF)}
+    stable["lone"] = {k: lone_block(k, str(tmp / f"lone_{k:g}"), args.reuse_runs) for k in (THESIS_SPRING, STIFF)}
     print("stiff", stable["stiff"]["bracket"], flush=True)
     for i, case in enumerate(CASES):
         load = os.getloadavg()[0]

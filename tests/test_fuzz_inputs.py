@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import copy
 import math
+import sys
 from pathlib import Path
 
 import pytest
@@ -16,6 +17,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import nmm3d
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "bench"))
+from reliability import scenario_paths as paths  # noqa: E402
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 BASES = {name: nmm3d.load(EXAMPLES / name).to_dict()
@@ -30,15 +34,6 @@ values = st.recursive(scalars, lambda inner: st.one_of(st.lists(inner, max_size=
                       max_leaves=8)
 
 
-def paths(node, prefix=()):
-    """Every path to a value in a nested dict/list."""
-    yield prefix
-    if isinstance(node, dict):
-        for k, v in node.items():
-            yield from paths(v, prefix + (k,))
-    elif isinstance(node, list):
-        for i, v in enumerate(node):
-            yield from paths(v, prefix + (i,))
 
 
 @st.composite
