@@ -165,7 +165,7 @@ def test_an_interrupted_study_resumes_without_rerunning_finished_runs(tmp_path):
     out = tmp_path / "sweep"
     args = ["study", str(EXAMPLES / "tetrahedral_wedge.toml"), "--out", str(out), "--workers", "1", "--quiet",
             "--set", "study.kind=\"sweep\"", "--set", "study.parameters={\"joint.j.friction_angle\" = [20.0, 25.0, 30.0, 35.0]}",
-            "--set", "study.criterion.time=0.3"]
+            "--set", "study.criterion.time=2.0"]  # runs of about 2 s: the kill lands between two
     p = subprocess.Popen([sys.executable, "-m", "nmm3d", *args], start_new_session=True,
                          stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     deadline = time.monotonic() + 300

@@ -15,7 +15,7 @@ use rustc_hash::FxHashMap;
 
 use nmm3d_geom::contact::Mode;
 use nmm3d_geom::polygon;
-use nmm3d_geom::Vec3;
+use nmm3d_geom::{Plane, Vec3};
 
 use super::point::{barycentric, MaterialPoint};
 use crate::model::tags;
@@ -72,21 +72,58 @@ pub fn facets_of_piece(sys: &System, block: usize, piece: &nmm3d_geom::ConvexPol
 }
 
 /// Facets of a piece (with their current vertices `x` and area vector) facing along `outward`
-/// whose every vertex lies in the band `(low, high)` of levels (n·x).
+/// whose every vertex lies in the band `(low, high)` of levels (n·x) — every vertex of its part
+/// inside `window` when one is given (see [`window`]).
 fn in_band<'a>(
     facets: &'a [Facet],
     x: &'a [Vec<Vec3>],
     n: &Vec3,
     (low, high): (f64, f64),
     outward: f64,
+    window: Option<&[Plane]>,
 ) -> Vec<(&'a Facet, &'a [Vec3], Vec3)> {
+    let within = |p: &Vec3| (low..=high).contains(&n.dot(p));
     facets
         .iter()
         .zip(x)
-        .filter(|(_, x)| x.iter().all(|p| (low..=high).contains(&n.dot(p))))
+        .filter(|(_, x)| match window {
+            None => x.iter().all(within),
+            Some(planes) => {
+                let part = planes.iter().fold(x.to_vec(), |q, pl| polygon::clip_polygon_to(&q, pl, 0.0));
+                !part.is_empty() && part.iter().all(within)
+            }
+        })
         .map(|(f, x)| (f, x.as_slice(), polygon::area_vector(x)))
         .filter(|(_, _, m)| outward * m.dot(n) > 0.0)
         .collect()
+}
+
+/// The prism over the footprint (seen along `n`) of the facets `selected`, grown by `margin`:
+/// a fixed block's face is one facet metres wide, and a tilt of the contact normal by a
+/// thousandth would lift its far corners out of the band; only its part over the other side's
+/// facets has to lie on the contact plane, as a facet of the mesh there would.
+fn window(selected: &[(&Facet, &[Vec3], Vec3)], n: &Vec3, margin: f64) -> Vec<Plane> {
+    let flat = |p: &Vec3| p - n * n.dot(p);
+    let (lo, hi) = selected
+        .iter()
+        .flat_map(|(_, x, _)| x.iter().map(flat))
+        .fold((Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY)), |(lo, hi), v| (lo.inf(&v), hi.sup(&v)));
+    let mut planes = Vec::new();
+    for k in 0..3 {
+        // flat(x)_k = (e_k − n_k n)·x: a plane normal unless the axis is along n.
+        let a = Vec3::ith(k, 1.0) - n * n[k];
+        let len = a.norm();
+        if len > 1e-6 {
+            planes.push(Plane { normal: a / len, offset: (hi[k] + margin) / len });
+            planes.push(Plane { normal: -a / len, offset: -(lo[k] - margin) / len });
+        }
+    }
+    planes
+}
+
+/// Whether the facets are a whole fixed block's faces (`model::Block::whole`).
+fn of_whole_block(sys: &System, facets: &[Facet]) -> bool {
+    facets.first().is_some_and(|f| sys.geometry.blocks[sys.covers.elements[f.vertices[0].element].block].whole)
 }
 
 /// Contact points of a face-to-face contact with normal `n` (from B to A) on the facets of A
@@ -107,8 +144,13 @@ pub fn overlay(
     // moment; only the facets within `tol` of the deepest corner lost the rest of the face (the
     // 3DEC sliding wedge on 10 MPa/m joints kept 1 % of its contact area and slid off).
     let band = (level_a.min(level_b) - tol, level_a.max(level_b) + tol);
-    let sa = in_band(fa, xa, n, band, -1.0);
-    let sb = in_band(fb, xb, n, band, 1.0);
+    // A fixed block's faces are tested over the other side's facets (fixed pairs never meet).
+    let (wa, wb) = (of_whole_block(sys, fa), of_whole_block(sys, fb));
+    let mut sa = if wa { Vec::new() } else { in_band(fa, xa, n, band, -1.0, None) };
+    let sb = in_band(fb, xb, n, band, 1.0, wb.then(|| window(&sa, n, tol)).as_deref());
+    if wa {
+        sa = in_band(fa, xa, n, band, -1.0, Some(&window(&sb, n, tol)));
+    }
     if sa.is_empty() || sb.is_empty() {
         return Vec::new();
     }

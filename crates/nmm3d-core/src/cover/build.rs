@@ -41,6 +41,8 @@ pub struct Covers {
     pub covers: Vec<PhysicalCover>,
     /// MEs of each cell, for locating points.
     pub by_cell: FxHashMap<[i32; 3], Vec<usize>>,
+    /// The ME of each block that is one ME (`Block::whole`), which reaches beyond its cell.
+    pub whole: FxHashMap<usize, usize>,
 }
 
 /// Relative tolerance of the "cell strictly inside the piece" test (× piece diagonal).
@@ -65,7 +67,13 @@ impl Covers {
         for (i, e) in elements.iter().enumerate() {
             by_cell.entry(e.cell).or_default().push(i);
         }
-        Self { mesh, pattern, elements, covers, by_cell }
+        let whole = elements
+            .iter()
+            .enumerate()
+            .filter(|(_, e)| geometry.blocks[e.block].whole)
+            .map(|(i, e)| (e.block, i))
+            .collect();
+        Self { mesh, pattern, elements, covers, by_cell, whole }
     }
 
     /// Weight functions of an ME's nodes.
@@ -92,6 +100,7 @@ impl Covers {
                 }
             }
         }
+        candidates.extend(self.whole.get(&block));
         candidates.sort_unstable();
         candidates.into_iter().find(|&i| {
             let e = &self.elements[i];
@@ -139,6 +148,9 @@ fn block_elements(
     pattern: &PatternTable,
     full_moments: &[Vec<[f64; TERMS]>; 2],
 ) -> Vec<ManifoldElement> {
+    if block.whole {
+        return vec![whole_element(b, block, mesh, pattern)];
+    }
     let s3 = mesh.size.powi(3);
     // Parts of every piece in every sub-cell: (cell, sub-cell) → [(part, moments, whole)].
     let mut parts: Vec<Part> = Vec::new();
@@ -219,6 +231,23 @@ fn block_elements(
         start = end;
     }
     out
+}
+
+/// A fixed block as one ME: all its pieces, on the first sub-cell of the cell holding its
+/// first vertex. The weights reach beyond that sub-cell, but they are a partition of unity
+/// everywhere, so the block's covers (no equations; moved only together by base motion) carry
+/// it rigidly; its faces are the contact surface, unbroken by the mesh.
+fn whole_element(b: usize, block: &Block, mesh: &MathMesh, pattern: &PatternTable) -> ManifoldElement {
+    let first = block.pieces[0].faces[0].vertices[0];
+    let cell = mesh.cell_of(&mesh.to_local(&first));
+    let c = cell_corner(cell);
+    let parts: Vec<ConvexPolyhedron> = block.pieces.iter().map(|p| p.map(|x| mesh.to_local(x) - c)).collect();
+    let mut m = [0.0; TERMS];
+    for p in &parts {
+        m.iter_mut().zip(moments(p, pattern)).for_each(|(a, b)| *a += b);
+    }
+    let volume = m[0] * mesh.size.powi(3);
+    ManifoldElement { block: b, cell, subcell: 0, covers: Vec::new(), parts, full: false, volume, moments: m }
 }
 
 /// Groups (indices) of the parts in one sub-cell that touch through glue faces.

@@ -12,6 +12,8 @@ pub struct Block {
     pub material: usize,
     /// Whether it is held fixed.
     pub fixed: bool,
+    /// Whether it is one manifold element (a fixed block not meshed: its surface only).
+    pub whole: bool,
     /// Initial translational velocity [m/s].
     pub velocity: Vec3,
     /// Initial angular velocity about the centroid [rad/s].
@@ -35,6 +37,7 @@ impl Block {
             body,
             material,
             fixed,
+            whole: false,
             velocity: Vec3::zeros(),
             angular_velocity: Vec3::zeros(),
             pieces,

@@ -45,29 +45,42 @@ pub fn cover_size(cover: &CoverSpec, extent: Vec3) -> f64 {
 
 /// The estimate, or `None` when a shape does not make a solid (reported elsewhere).
 pub fn estimate(s: &Scenario) -> Option<Estimate> {
-    let mut boxes = Vec::new();
-    for b in s.body.iter().filter(|b| !matches!(b.shape, Shape::Tunnel(_))) {
-        boxes.extend(shape_to_pieces(&b.shape).ok()?.iter().map(|p| p.aabb()));
+    // Each body's box (`None`: a tunnel profile, which only carves).
+    let mut own: Vec<Option<Aabb>> = Vec::with_capacity(s.body.len());
+    for b in &s.body {
+        own.push(match &b.shape {
+            Shape::Tunnel(_) => None,
+            shape => shape_to_pieces(shape).ok()?.iter().map(|p| p.aabb()).reduce(|a, c| a.union(&c)),
+        });
     }
-    let bb = boxes.into_iter().reduce(|a, b| a.union(&b))?;
+    let union = |keep: &dyn Fn(usize) -> bool| {
+        own.iter().enumerate().filter(|(k, _)| keep(*k)).filter_map(|(_, b)| *b).reduce(|a, c| a.union(&c))
+    };
+    let bb = union(&|_| true)?;
     let ext = bb.extent();
     let size = cover_size(&s.cover, ext);
-    // A rotated mesh covers the box with at most one more cell per axis on each side.
-    let nodes: f64 = (0..3).map(|i| ext[i] / size + 3.0).product();
+    // A rotated mesh covers the box of the meshed bodies with at most one more cell per axis
+    // on each side; a fixed body not meshed is one element per block (counted below).
+    let nodes = union(&|k| !s.body[k].fixed || s.body[k].fixed_mesh)
+        .map_or(0.0, |m| (0..3).map(|i| m.extent()[i] / size + 3.0).product());
     let planes: Vec<f64> =
         s.joint_set.iter().map(|j| across(&bb, normal_from_dip(j.dip, j.dip_direction)) / j.spacing).collect();
-    // Per body, the sets and planes that cut it: parallel planes make n + 1 slabs per set; m
+    // Per body, the sets and planes that cut it (without names every body not fixed, as
+    // `cutting::cut`): parallel planes across the body's own box make n + 1 slabs per set; m
     // planes in general position at most 1 + m + C(m, 2) + C(m, 3) cells.
-    let cuts = |bodies: &Option<Vec<String>>, name: &String| bodies.as_ref().is_none_or(|b| b.contains(name));
-    let blocks: f64 = s
-        .body
-        .iter()
-        .map(|b| {
+    let cuts = |bodies: &Option<Vec<String>>, b: &crate::scenario::Body| {
+        bodies.as_ref().map_or(!b.fixed, |names| names.contains(&b.name))
+    };
+    let blocks: f64 = (s.body.iter().zip(&own))
+        .map(|(b, own)| {
             let slabs: f64 = (s.joint_set.iter().zip(&planes))
-                .filter(|(j, _)| cuts(&j.bodies, &b.name))
-                .map(|(_, n)| n + 1.0)
+                .filter(|(j, _)| cuts(&j.bodies, b))
+                .map(|(j, n)| match own {
+                    Some(o) => across(o, normal_from_dip(j.dip, j.dip_direction)) / j.spacing + 1.0,
+                    None => n + 1.0,
+                })
                 .product();
-            let m = s.joint_plane.iter().filter(|j| cuts(&j.bodies, &b.name)).count() as f64;
+            let m = s.joint_plane.iter().filter(|j| cuts(&j.bodies, b)).count() as f64;
             slabs * (1.0 + m + m * (m - 1.0) / 2.0 + m * (m - 1.0) * (m - 2.0) / 6.0)
         })
         .sum();
@@ -207,6 +220,19 @@ mod tests {
             j.bodies = Some(vec!["cube".into()]);
         }
         assert!((estimate(&s).unwrap().blocks - (alone + 10.0)).abs() < 1e-6);
+    }
+
+    #[test]
+    fn a_fixed_body_is_not_meshed_unless_asked() {
+        // A fixed 1 km slab under the cube: one element, not 10⁸ nodes of the 1 m cover.
+        let mut s = cube(1.0, 1.0);
+        let alone = estimate(&s).unwrap().nodes;
+        let slab = Shape::Box { min: [-500.0, -500.0, -100.0], max: [500.0, 500.0, 0.0] };
+        s.body.push(crate::scenario::Body { name: "slab".into(), fixed: true, shape: slab, ..s.body[0].clone() });
+        assert_eq!(estimate(&s).unwrap().nodes, alone);
+        assert!(estimate(&s).unwrap().bytes < 2.0 * estimate(&cube(1.0, 1.0)).unwrap().bytes);
+        s.body[1].fixed_mesh = true;
+        assert!(estimate(&s).unwrap().nodes > 1e8);
     }
 
     #[test]

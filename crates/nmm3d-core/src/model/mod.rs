@@ -92,6 +92,7 @@ impl Geometry {
                 let b = &s.body[r.body];
                 let m = s.material.iter().position(|m| m.name == b.material).expect("validated");
                 let mut block = Block::new(r.body, m, b.fixed, r.pieces);
+                block.whole = b.fixed && !b.fixed_mesh;
                 block.velocity = Vec3::from(b.velocity);
                 block.angular_velocity = Vec3::from(b.angular_velocity);
                 block.excavation = r.excavation;

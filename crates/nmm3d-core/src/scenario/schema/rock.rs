@@ -64,6 +64,11 @@ pub struct Body {
     /// Every block of this body is fixed.
     #[serde(default)]
     pub fixed: bool,
+    /// A fixed body covered by the mesh like a moving one (addition to v1). By default each
+    /// fixed block is one manifold element: only its surface matters for contact, it has no
+    /// equations either way, and a fine mesh of it would cost memory and detection time.
+    #[serde(default)]
+    pub fixed_mesh: bool,
     /// Initial velocity [m/s].
     #[serde(default)]
     pub velocity: [f64; 3],
