@@ -236,9 +236,10 @@ def write(s: dict, blocks: dict[int, dict], monitors: dict[str, int], ends: dict
         "|---|---:|---:|",
         *stats,
         "",
-        f"Layer L1 has {per_layer[1]} blocks (8 per group), L2 {per_layer[2]} (7 per group). Cover: tet6, 1 m; "
-        f"the layer has {s['layer_elements']} manifold elements (thesis: about 1 000 in its model), the whole model "
-        f"{s['manifold_elements']} — the fixed bedrock is covered as finely as the blocks. "
+        f"Layer L1 has {per_layer[1]} blocks (8 per group), L2 {per_layer[2]} (7 per group). Cover: tet6, 1.45 m; "
+        f"the layer has {s['layer_elements']} manifold elements, the whole model {s['manifold_elements']} "
+        "(thesis: 1 067) — the fixed bedrock is one, as every fixed body unless meshed "
+        "([theory/covers.md](../theory/covers.md#fixed-blocks)). "
         "The joint sets on a stereonet: [blocks.md](../blocks.md).",
         "",
         "![the block model](../images/rock_slope_model.png)",
