@@ -56,7 +56,7 @@ fn manifold_element_volumes_sum_to_the_block_volume() {
         let body = random_convex(&mut rng);
         let geo = geometry(vec![body.clone()]);
         for kind in PATTERNS {
-            let covers = Covers::build(&geo, random_mesh(&mut rng), PatternTable::new(kind));
+            let covers = Covers::on_mesh(&geo, random_mesh(&mut rng), PatternTable::new(kind));
             let sum: f64 = covers.elements.iter().map(|e| e.volume).sum();
             let v = body.volume();
             assert!(((sum - v) / v).abs() < 1e-12, "case {case} {kind:?}: {sum} vs {v}");
@@ -68,7 +68,7 @@ fn manifold_element_volumes_sum_to_the_block_volume() {
 fn an_aligned_box_is_covered_exactly() {
     let b = ConvexPolyhedron::from_box(Vec3::zeros(), Vec3::new(2.0, 1.0, 1.0));
     for kind in PATTERNS {
-        let covers = Covers::build(
+        let covers = Covers::on_mesh(
             &geometry(vec![b.clone()]),
             MathMesh::new(0.5, Vec3::zeros(), [0.0; 3]),
             PatternTable::new(kind),
@@ -102,7 +102,7 @@ fn weights_are_a_partition_of_unity_and_reproduce_linear_fields() {
         let geo = geometry(vec![body.clone()]);
         let bb = body.aabb();
         for kind in PATTERNS {
-            let covers = Covers::build(&geo, random_mesh(&mut rng), PatternTable::new(kind));
+            let covers = Covers::on_mesh(&geo, random_mesh(&mut rng), PatternTable::new(kind));
             let mut tested = 0;
             while tested < 50 {
                 let p = bb.min + bb.extent().component_mul(&Vec3::new(rng.next(), rng.next(), rng.next()));
@@ -127,7 +127,7 @@ fn weights_are_a_partition_of_unity_and_reproduce_linear_fields() {
 fn separate_blocks_get_separate_physical_covers() {
     let a = ConvexPolyhedron::from_box(Vec3::zeros(), Vec3::new(1.0, 1.0, 1.0));
     let b = ConvexPolyhedron::from_box(Vec3::new(1.0, 0.0, 0.0), Vec3::new(2.0, 1.0, 1.0));
-    let covers = Covers::build(
+    let covers = Covers::on_mesh(
         &geometry(vec![a, b]),
         MathMesh::new(0.5, Vec3::zeros(), [0.0; 3]),
         PatternTable::new(PatternKind::Tet6),
@@ -168,7 +168,7 @@ fn covers_without_a_substantial_me_are_tied_even_in_blocks_smaller_than_a_sub_ce
             random_convex(&mut rng)
         };
         for kind in PATTERNS {
-            let covers = Covers::build(&geometry(vec![body.clone()]), mesh, PatternTable::new(kind));
+            let covers = Covers::on_mesh(&geometry(vec![body.clone()]), mesh, PatternTable::new(kind));
             let tied = aggregation::tie_ill_posed(&covers, &[false], threshold);
             let f = fractions(&covers);
             let fullest = f.iter().copied().fold(0.0, f64::max).min(1.0);

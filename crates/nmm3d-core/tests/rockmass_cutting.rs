@@ -233,7 +233,7 @@ fn tunnels_remove_their_profile_area_times_length() {
 fn covers_of_a_non_convex_block_keep_its_volume() {
     let (g, _) = tunnel_case("profile = \"horseshoe\", width = 4.0, height = 4.5", "");
     for kind in [PatternKind::Tet6, PatternKind::Hex8] {
-        let covers = Covers::build(
+        let covers = Covers::on_mesh(
             &g,
             MathMesh::new(1.3, Vec3::new(0.1, 0.2, 0.3), [10.0, 20.0, 30.0]),
             PatternTable::new(kind),

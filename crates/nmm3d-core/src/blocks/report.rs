@@ -46,8 +46,9 @@ pub fn cover_report(scenario: &Scenario) -> Value {
     let c = &scenario.cover;
     let ext = geometry.aabb().extent();
     let size = crate::model::estimate::cover_size(c, ext);
-    let mesh = crate::cover::MathMesh::new(size, nmm3d_geom::Vec3::from(c.origin) - geometry.origin, c.rotation);
-    let covers = crate::cover::Covers::build(&geometry, mesh, crate::cover::PatternTable::new(c.pattern));
+    let origin = nmm3d_geom::Vec3::from(c.origin) - geometry.origin;
+    let (meshes, of_block) = crate::cover::meshes::model_meshes(scenario, &geometry, size, origin);
+    let covers = crate::cover::Covers::build(&geometry, meshes, of_block, crate::cover::PatternTable::new(c.pattern));
     json!({
         "blocks": geometry.blocks.len(),
         "manifold_elements": covers.elements.len(),

@@ -51,9 +51,8 @@ pub fn facets_of_piece(sys: &System, block: usize, piece: &nmm3d_geom::ConvexPol
     let covers = &sys.covers;
     let mut out = Vec::new();
     for (e, me) in covers.elements.iter().enumerate().filter(|(_, me)| me.block == block) {
-        let corner = crate::cover::mesh::cell_corner(me.cell);
         for f in me.boundary_faces() {
-            let x: Vec<Vec3> = f.vertices.iter().map(|xi| covers.mesh.to_global(&(corner + xi))).collect();
+            let x: Vec<Vec3> = f.vertices.iter().map(|xi| covers.global(me, xi)).collect();
             if !x.iter().all(|p| piece.contains(p, tol)) || !tags::is_boundary(f.tag) {
                 continue;
             }

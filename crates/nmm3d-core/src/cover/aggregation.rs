@@ -16,7 +16,6 @@ use std::collections::HashMap;
 use nmm3d_geom::Vec3;
 
 use super::build::Covers;
-use super::mesh::cell_corner;
 
 /// How far (in cells) to look for a well-posed ME.
 const SEARCH_RADIUS: i32 = 64;
@@ -27,11 +26,10 @@ pub fn tie_ill_posed(covers: &Covers, fixed_block: &[bool], threshold: f64) -> V
     if threshold <= 0.0 {
         return tied;
     }
-    let s3 = covers.mesh.size.powi(3);
     let fraction: Vec<f64> = covers
         .elements
         .iter()
-        .map(|e| e.volume / (covers.pattern.of_cell(e.cell)[e.subcell].shape.volume() * s3))
+        .map(|e| e.volume / (covers.pattern.of_cell(e.cell)[e.subcell].shape.volume() * covers.mesh_of(e).size.powi(3)))
         .collect();
     // Measured against the block's fullest ME: a block smaller than a sub-cell (a sliver
     // between joints) has no ME above the threshold, and its pieces of 1e-11 of a cell would
@@ -61,7 +59,7 @@ pub fn tie_ill_posed(covers: &Covers, fixed_block: &[bool], threshold: f64) -> V
         }
         if let Some(root) = nearest_root(covers, &roots, &reach, cover.block, cover.node, &cover.position) {
             let me = &covers.elements[root];
-            let xi = covers.mesh.to_local(&cover.position) - cell_corner(me.cell);
+            let xi = covers.cell_local(me, &cover.position);
             let w = covers.weights(me).iter().map(|p| p.eval(&xi));
             tied[c] = Some(me.covers.iter().copied().zip(w).collect());
         }
@@ -87,7 +85,7 @@ fn nearest_root(
     for r in 0..=SEARCH_RADIUS.min(farthest) {
         for cell in ring(centre, r) {
             for &e in roots.get(&(block, cell)).into_iter().flatten() {
-                let d = (covers.elements[e].centroid(&covers.mesh) - x).norm();
+                let d = (covers.elements[e].centroid(covers.mesh_of(&covers.elements[e])) - x).norm();
                 if best.is_none_or(|(bd, be)| d < bd || (d == bd && e < be)) {
                     best = Some((d, e));
                 }

@@ -31,16 +31,20 @@ use crate::model::{tags, Block, Geometry};
 /// The cover system of a model.
 #[derive(Debug, Clone)]
 pub struct Covers {
-    /// The mathematical mesh.
+    /// The mathematical mesh of `[cover]`: its size is the model's length scale (tolerances).
     pub mesh: MathMesh,
+    /// Every mesh in use: `mesh` first, then those of bodies with their own `cover_size`.
+    pub meshes: Vec<MathMesh>,
+    /// Index into `meshes` of each block's mesh.
+    pub block_mesh: Vec<usize>,
     /// The pattern's sub-cells.
     pub pattern: PatternTable,
     /// Manifold elements, ordered by block, then cell, then sub-cell.
     pub elements: Vec<ManifoldElement>,
     /// Physical covers, numbered by first appearance in `elements`.
     pub covers: Vec<PhysicalCover>,
-    /// MEs of each cell, for locating points.
-    pub by_cell: FxHashMap<[i32; 3], Vec<usize>>,
+    /// MEs of each (mesh, cell), for locating points.
+    pub by_cell: FxHashMap<(usize, [i32; 3]), Vec<usize>>,
     /// The ME of each block that is one ME (`Block::whole`), which reaches beyond its cell.
     pub whole: FxHashMap<usize, usize>,
 }
@@ -51,21 +55,24 @@ const FULL_CELL_TOLERANCE: f64 = 1e-10;
 const WHOLE_TOLERANCE: f64 = 1e-13;
 
 impl Covers {
-    /// Build MEs and physical covers of every block.
-    pub fn build(geometry: &Geometry, mesh: MathMesh, pattern: PatternTable) -> Self {
+    /// Build MEs and physical covers of every block, block `b` on `meshes[block_mesh[b]]`
+    /// (`meshes[0]`: the mesh of `[cover]`).
+    pub fn build(geometry: &Geometry, meshes: Vec<MathMesh>, block_mesh: Vec<usize>, pattern: PatternTable) -> Self {
         let full_moments = full_subcell_moments(&pattern);
         // Blocks are independent; collecting in block order keeps the numbering deterministic.
         let per_block: Vec<Vec<ManifoldElement>> = geometry
             .blocks
             .par_iter()
             .enumerate()
-            .map(|(b, block)| block_elements(b, block, &mesh, &pattern, &full_moments))
+            .map(|(b, block)| {
+                block_elements((b, block_mesh[b]), block, &meshes[block_mesh[b]], &pattern, &full_moments)
+            })
             .collect();
         let elements: Vec<ManifoldElement> = per_block.into_iter().flatten().collect();
-        let (elements, covers) = number_covers(elements, &mesh, &pattern);
-        let mut by_cell: FxHashMap<[i32; 3], Vec<usize>> = FxHashMap::default();
+        let (elements, covers) = number_covers(elements, &meshes, &pattern);
+        let mut by_cell: FxHashMap<(usize, [i32; 3]), Vec<usize>> = FxHashMap::default();
         for (i, e) in elements.iter().enumerate() {
-            by_cell.entry(e.cell).or_default().push(i);
+            by_cell.entry((e.mesh, e.cell)).or_default().push(i);
         }
         let whole = elements
             .iter()
@@ -73,7 +80,12 @@ impl Covers {
             .filter(|(_, e)| geometry.blocks[e.block].whole)
             .map(|(i, e)| (e.block, i))
             .collect();
-        Self { mesh, pattern, elements, covers, by_cell, whole }
+        Self { mesh: meshes[0], meshes, block_mesh, pattern, elements, covers, by_cell, whole }
+    }
+
+    /// Build MEs and physical covers of every block on one mesh.
+    pub fn on_mesh(geometry: &Geometry, mesh: MathMesh, pattern: PatternTable) -> Self {
+        Self::build(geometry, vec![mesh], vec![0; geometry.blocks.len()], pattern)
     }
 
     /// Weight functions of an ME's nodes.
@@ -81,22 +93,34 @@ impl Covers {
         &self.pattern.of_cell(e.cell)[e.subcell].weights
     }
 
+    /// The mesh an ME is cut from.
+    pub fn mesh_of(&self, e: &ManifoldElement) -> &MathMesh {
+        &self.meshes[e.mesh]
+    }
+
     /// Cell-local coordinates of a global reference point in the ME's cell.
     pub fn cell_local(&self, e: &ManifoldElement, x: &Vec3) -> Vec3 {
-        self.mesh.to_local(x) - cell_corner(e.cell)
+        self.mesh_of(e).to_local(x) - cell_corner(e.cell)
+    }
+
+    /// Global position of a cell-local point of an ME.
+    pub fn global(&self, e: &ManifoldElement, xi: &Vec3) -> Vec3 {
+        self.mesh_of(e).to_global(&(cell_corner(e.cell) + xi))
     }
 
     /// The ME containing a reference point of block `block` (`None` if outside): the point's
     /// cell and, for points on a cell face or edge, its neighbours are searched.
     pub fn locate(&self, block: usize, x: &Vec3, tol: f64) -> Option<usize> {
-        let local = self.mesh.to_local(x);
-        let t = tol / self.mesh.size;
-        let c = self.mesh.cell_of(&local);
+        let m = self.block_mesh[block];
+        let mesh = &self.meshes[m];
+        let local = mesh.to_local(x);
+        let t = tol / mesh.size;
+        let c = mesh.cell_of(&local);
         let mut candidates: Vec<usize> = Vec::new();
         for dk in -1..=1 {
             for dj in -1..=1 {
                 for di in -1..=1 {
-                    candidates.extend(self.by_cell.get(&[c[0] + di, c[1] + dj, c[2] + dk]).into_iter().flatten());
+                    candidates.extend(self.by_cell.get(&(m, [c[0] + di, c[1] + dj, c[2] + dk])).into_iter().flatten());
                 }
             }
         }
@@ -142,14 +166,14 @@ fn full_subcell_moments(pattern: &PatternTable) -> [Vec<[f64; TERMS]>; 2] {
 type Part = ([i32; 3], usize, ConvexPolyhedron, [f64; TERMS], bool);
 
 fn block_elements(
-    b: usize,
+    (b, mesh_index): (usize, usize),
     block: &Block,
     mesh: &MathMesh,
     pattern: &PatternTable,
     full_moments: &[Vec<[f64; TERMS]>; 2],
 ) -> Vec<ManifoldElement> {
     if block.whole {
-        return vec![whole_element(b, block, mesh, pattern)];
+        return vec![whole_element((b, mesh_index), block, mesh, pattern)];
     }
     let s3 = mesh.size.powi(3);
     // Parts of every piece in every sub-cell: (cell, sub-cell) → [(part, moments, whole)].
@@ -219,6 +243,7 @@ fn block_elements(
             let geom = group.iter().map(|&g| parts[g + start].2.clone()).collect();
             out.push(ManifoldElement {
                 block: b,
+                mesh: mesh_index,
                 cell,
                 subcell,
                 covers: Vec::new(),
@@ -237,7 +262,12 @@ fn block_elements(
 /// first vertex. The weights reach beyond that sub-cell, but they are a partition of unity
 /// everywhere, so the block's covers (no equations; moved only together by base motion) carry
 /// it rigidly; its faces are the contact surface, unbroken by the mesh.
-fn whole_element(b: usize, block: &Block, mesh: &MathMesh, pattern: &PatternTable) -> ManifoldElement {
+fn whole_element(
+    (b, mesh_index): (usize, usize),
+    block: &Block,
+    mesh: &MathMesh,
+    pattern: &PatternTable,
+) -> ManifoldElement {
     let first = block.pieces[0].faces[0].vertices[0];
     let cell = mesh.cell_of(&mesh.to_local(&first));
     let c = cell_corner(cell);
@@ -247,7 +277,17 @@ fn whole_element(b: usize, block: &Block, mesh: &MathMesh, pattern: &PatternTabl
         m.iter_mut().zip(moments(p, pattern)).for_each(|(a, b)| *a += b);
     }
     let volume = m[0] * mesh.size.powi(3);
-    ManifoldElement { block: b, cell, subcell: 0, covers: Vec::new(), parts, full: false, volume, moments: m }
+    ManifoldElement {
+        block: b,
+        mesh: mesh_index,
+        cell,
+        subcell: 0,
+        covers: Vec::new(),
+        parts,
+        full: false,
+        volume,
+        moments: m,
+    }
 }
 
 /// Groups (indices) of the parts in one sub-cell that touch through glue faces.
@@ -308,7 +348,7 @@ type FaceKey = (usize, [NodeKey; 4]);
 
 fn number_covers(
     mut elements: Vec<ManifoldElement>,
-    mesh: &MathMesh,
+    meshes: &[MathMesh],
     pattern: &PatternTable,
 ) -> (Vec<ManifoldElement>, Vec<PhysicalCover>) {
     // Incidence (e, slot) ↦ flat index.
@@ -340,7 +380,7 @@ fn number_covers(
                 let root = uf.find(offset[ei] + slot);
                 if class_to_cover[root] == usize::MAX {
                     let node = node_key(e.cell, sub.nodes[slot]);
-                    covers.push(PhysicalCover { block: e.block, node, position: mesh.node_position(node) });
+                    covers.push(PhysicalCover { block: e.block, node, position: meshes[e.mesh].node_position(node) });
                     class_to_cover[root] = covers.len() - 1;
                 }
                 class_to_cover[root]

@@ -10,6 +10,8 @@ use super::poly::TERMS;
 pub struct ManifoldElement {
     /// Block index.
     pub block: usize,
+    /// Index of its mesh in `Covers::meshes`.
+    pub mesh: usize,
     /// Cell (i, j, k) of the mathematical mesh.
     pub cell: [i32; 3],
     /// Sub-cell index within the cell's pattern.

@@ -4,6 +4,7 @@ pub mod aggregation;
 pub mod build;
 pub mod manifold_element;
 pub mod mesh;
+pub mod meshes;
 pub mod pattern;
 pub mod physical_cover;
 pub mod poly;

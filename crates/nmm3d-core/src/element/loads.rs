@@ -22,7 +22,7 @@ pub fn in_situ_at(s: &InSituStress, z: f64) -> [f64; 6] {
 /// Initial-stress nodal forces f_a = ∫ σ₀(z) ∇w_a dV (the internal force of the initial
 /// stress, thesis §3.3 "initial stress matrix") and the ME's mean initial stress.
 pub fn initial_stress(covers: &Covers, e: &ManifoldElement, s: &InSituStress) -> (Vec<Vec3>, [f64; 6]) {
-    let mesh = &covers.mesh;
+    let mesh = covers.mesh_of(e);
     let (sz, r) = (mesh.size, mesh.rotation);
     let z_corner = mesh.to_global(&cell_corner(e.cell)).z;
     let rz = r.row(2).transpose() * sz; // z(ξ) = z_corner + rz·ξ
@@ -44,7 +44,7 @@ pub fn initial_stress(covers: &Covers, e: &ManifoldElement, s: &InSituStress) ->
             base * (sz * sz * (r * h)) + grad * (sz * sz * (r * q))
         })
         .collect();
-    (forces, in_situ_at(s, e.centroid(&covers.mesh).z))
+    (forces, in_situ_at(s, e.centroid(mesh).z))
 }
 
 /// Nodal forces of hydrostatic water pressure p = γ_w (table − h) on the parts of an ME's
@@ -59,7 +59,7 @@ pub fn hydrostatic_forces<'a>(
     (table, up): (f64, Vec3),
     unit_weight: f64,
 ) -> Option<Vec<Vec3>> {
-    let mesh = &covers.mesh;
+    let mesh = covers.mesh_of(e);
     let (sz, r) = (mesh.size, mesh.rotation);
     let h_corner = up.dot(&mesh.to_global(&cell_corner(e.cell)));
     let rz = r.transpose() * up * sz; // h(ξ) = h_corner + rz·ξ
@@ -104,17 +104,15 @@ pub fn boundary_face_integrals(
 ) -> Option<Vec<f64>> {
     let Region::Box { min, max } = region;
     let bb = nmm3d_geom::Aabb { min: Vec3::from(*min), max: Vec3::from(*max) };
-    let s2 = covers.mesh.size * covers.mesh.size;
+    let mesh = covers.mesh_of(e);
+    let s2 = mesh.size * mesh.size;
     let exps: Vec<_> = (0..TERMS).map(poly::exponent).filter(|e| e.iter().all(|&k| k <= 1)).collect();
     let mut total: Option<Vec<f64>> = None;
     let cos_tol = NORMAL_TOLERANCE_DEG.to_radians().cos();
     for f in e.boundary_faces() {
-        let inside = f
-            .vertices
-            .iter()
-            .all(|v| bb.contains(&covers.mesh.to_global(&(cell_corner(e.cell) + v)), 1e-9 * covers.mesh.size));
+        let inside = f.vertices.iter().all(|v| bb.contains(&covers.global(e, v), 1e-9 * covers.mesh.size));
         let facing =
-            normal.is_none_or(|n| (covers.mesh.rotation * f.area_vector()).normalize().dot(&n.normalize()) >= cos_tol);
+            normal.is_none_or(|n| (mesh.rotation * f.area_vector()).normalize().dot(&n.normalize()) >= cos_tol);
         if !inside || !facing {
             continue;
         }

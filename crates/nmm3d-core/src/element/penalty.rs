@@ -6,7 +6,6 @@ use std::collections::BTreeMap;
 use nmm3d_geom::Vec3;
 
 use super::loads::weights_at;
-use crate::cover::mesh::cell_corner;
 use crate::cover::Covers;
 use crate::scenario::{Axis, Region};
 
@@ -40,7 +39,7 @@ pub fn boundary_vertices_in(covers: &Covers, region: &Region, weld: f64) -> Vec<
     for (ei, e) in covers.elements.iter().enumerate() {
         for f in e.boundary_faces() {
             for v in &f.vertices {
-                let x = covers.mesh.to_global(&(cell_corner(e.cell) + v));
+                let x = covers.global(e, v);
                 if bb.contains(&x, weld) {
                     let key = [(x.x / weld).round() as i64, (x.y / weld).round() as i64, (x.z / weld).round() as i64];
                     let _ = found.entry(key).or_insert((ei, x));

@@ -24,8 +24,10 @@ pub const MEMORY_SHARE: f64 = 0.8;
 /// The cost of a scenario, estimated from its input.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Estimate {
-    /// Cover cell edge [m].
+    /// Cell edge of the mesh with the most nodes [m].
     pub cover_size: f64,
+    /// The key that sets it (`cover.size` or `body.NAME.cover_size`).
+    pub cover_key: String,
     /// Cover nodes over the bounding box, without the copies blocks make [-].
     pub nodes: f64,
     /// Blocks the joints may make (upper bound) [-].
@@ -59,10 +61,25 @@ pub fn estimate(s: &Scenario) -> Option<Estimate> {
     let bb = union(&|_| true)?;
     let ext = bb.extent();
     let size = cover_size(&s.cover, ext);
-    // A rotated mesh covers the box of the meshed bodies with at most one more cell per axis
-    // on each side; a fixed body not meshed is one element per block (counted below).
-    let nodes = union(&|k| !s.body[k].fixed || s.body[k].fixed_mesh)
-        .map_or(0.0, |m| (0..3).map(|i| m.extent()[i] / size + 3.0).product());
+    // Each mesh (`[cover]`'s and one per body cover size) covers the box of the bodies it meshes
+    // with at most one more cell per axis on each side (a rotated mesh); a fixed body not
+    // meshed is one element per block (counted below).
+    let mut meshes: Vec<(String, f64, Aabb)> = Vec::new();
+    for (b, bx) in s.body.iter().zip(&own).filter(|(b, _)| !b.fixed || b.fixed_mesh) {
+        let Some(bx) = bx else { continue };
+        let (key, sz) = match b.cover_size {
+            Some(c) if c != size => (format!("body.{}.cover_size", b.name), c),
+            _ => ("cover.size".to_string(), size),
+        };
+        match meshes.iter_mut().find(|m| m.1 == sz) {
+            Some(m) => m.2 = m.2.union(bx),
+            None => meshes.push((key, sz, *bx)),
+        }
+    }
+    let count = |(_, sz, bx): &(String, f64, Aabb)| (0..3).map(|i| bx.extent()[i] / sz + 3.0).product::<f64>();
+    let nodes: f64 = meshes.iter().map(count).sum();
+    let finest = meshes.iter().max_by(|a, b| count(a).total_cmp(&count(b)));
+    let (cover_key, size) = finest.map_or(("cover.size".to_string(), size), |m| (m.0.clone(), m.1));
     let planes: Vec<f64> =
         s.joint_set.iter().map(|j| across(&bb, normal_from_dip(j.dip, j.dip_direction)) / j.spacing).collect();
     // Per body, the sets and planes that cut it (without names every body not fixed, as
@@ -97,7 +114,7 @@ pub fn estimate(s: &Scenario) -> Option<Estimate> {
     // Each block carries its own covers: at least the 8 nodes of one cell.
     let equations = 3.0 * (nodes + 8.0 * blocks);
     let bytes = BYTES_PER_EQUATION * equations + BYTES_PER_BLOCK * blocks + BYTES_PER_SEGMENT * segments;
-    Some(Estimate { cover_size: size, nodes, blocks, planes, segments, bytes })
+    Some(Estimate { cover_size: size, cover_key, nodes, blocks, planes, segments, bytes })
 }
 
 /// The memory a run may plan to use [B]: `analysis.max_memory`, or [`MEMORY_SHARE`] of this
@@ -142,7 +159,7 @@ pub fn problems(s: &Scenario) -> Vec<Problem> {
         let path = k.map_or("joint_plane".to_string(), |k| format!("joint_set[{k}].spacing"));
         (path, format!("up to {:.3e} blocks", e.blocks))
     } else {
-        ("cover.size".to_string(), format!("{:.3e} cover nodes of {:.3e} m", e.nodes, e.cover_size))
+        (e.cover_key.clone(), format!("{:.3e} cover nodes of {:.3e} m", e.nodes, e.cover_size))
     };
     let reason = format!(
         "the model would need {} ({what}), more than the {} allowed (analysis.max_memory; 0 = {:.0} % of this machine's memory)",
@@ -245,6 +262,9 @@ mod tests {
         assert_eq!(named(&fine).as_deref(), Some("joint_set[1].spacing"));
         fine.joint_set[1].spacing = 5e-324;
         assert!(problems(&fine)[0].reason.contains("unbounded"), "{:?}", problems(&fine));
+        let mut fine = cube(1.0, 1.0);
+        fine.body[0].cover_size = Some(1e-4);
+        assert_eq!(named(&fine).as_deref(), Some("body.cube.cover_size"));
         let mut small = cube(1.0, 1.0);
         small.analysis.max_memory = 1e9;
         let p = problems(&small);

@@ -196,8 +196,7 @@ pub fn write_frame(sys: &System, state: &Motion, path: &Path) -> Result<()> {
         let interpolate = |xi: &Vec3, f: &dyn Fn(usize) -> Vec3| -> Vec3 {
             me.covers.iter().zip(w).map(|(&c, wa)| wa.eval(xi) * f(c)).sum()
         };
-        let corner = crate::cover::mesh::cell_corner(me.cell);
-        let key = |xi: &Vec3| point_key(me.block, &sys.covers.mesh.to_global(&(corner + xi)), quantum);
+        let key = |xi: &Vec3| point_key(me.block, &sys.covers.global(me, xi), quantum);
         let sigma = stress_components(&corotation::element_stress(sys, state, e));
         for part in &me.parts {
             // Positions in the scenario's coordinates (the model runs in a local frame).

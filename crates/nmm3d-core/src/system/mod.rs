@@ -9,7 +9,7 @@ use nmm3d_geom::Vec3;
 use crate::assembly::assembler::masters_of;
 use crate::assembly::{Assembler, DofMap, SparsityPattern};
 use crate::cover::pattern::parity;
-use crate::cover::{aggregation, Covers, MathMesh, PatternTable};
+use crate::cover::{aggregation, Covers, PatternTable};
 use crate::element::bolt::BoltSpring;
 use crate::element::{element_kernel, loads, penalty, ElementKernel, PointConstraint};
 use crate::error::{Error, Result};
@@ -96,8 +96,8 @@ impl System {
         let scenario = scenario.shifted(geometry.origin.into());
         let size = crate::model::estimate::cover_size(&scenario.cover, ext);
         let c = &scenario.cover;
-        let mesh = MathMesh::new(size, Vec3::from(c.origin), c.rotation);
-        let covers = Covers::build(&geometry, mesh, PatternTable::new(c.pattern));
+        let (meshes, of_block) = crate::cover::meshes::model_meshes(&scenario, &geometry, size, Vec3::from(c.origin));
+        let covers = Covers::build(&geometry, meshes, of_block, PatternTable::new(c.pattern));
         let t_covers = t.elapsed().as_secs_f64();
 
         let t = Instant::now();
@@ -325,14 +325,14 @@ pub fn expand_mass(mass: &[f64], n: usize) -> Vec<f64> {
 
 fn build_kernels(covers: &Covers, geometry: &Geometry) -> (Vec<ElementKernel>, Vec<usize>) {
     let mut kernels = Vec::new();
-    let mut shared: FxHashMap<(usize, usize, usize), usize> = FxHashMap::default();
+    let mut shared: FxHashMap<(usize, usize, usize, usize), usize> = FxHashMap::default();
     let mut kernel_of = Vec::with_capacity(covers.elements.len());
     for e in &covers.elements {
         let mat_id = geometry.blocks[e.block].material;
         let mat = &geometry.materials[mat_id];
-        let make = || element_kernel(&e.moments, covers.weights(e), &covers.mesh, mat);
+        let make = || element_kernel(&e.moments, covers.weights(e), covers.mesh_of(e), mat);
         let id = if e.full {
-            *shared.entry((mat_id, parity(e.cell), e.subcell)).or_insert_with(|| {
+            *shared.entry((mat_id, e.mesh, parity(e.cell), e.subcell)).or_insert_with(|| {
                 kernels.push(make());
                 kernels.len() - 1
             })

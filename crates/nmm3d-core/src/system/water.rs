@@ -17,12 +17,11 @@ type Polygon = Vec<Vec3>;
 pub(super) fn wet_faces(geometry: &Geometry, covers: &Covers, elements: &[usize]) -> Vec<(usize, Vec<Polygon>)> {
     let all = boundary_faces(&geometry.blocks);
     let tol = COINCIDENT_RATIO * geometry.aabb().diagonal();
-    let mesh = &covers.mesh;
     elements
         .par_iter()
         .map(|&e| {
             let me = &covers.elements[e];
-            let corner = cell_corner(me.cell);
+            let (mesh, corner) = (covers.mesh_of(me), cell_corner(me.cell));
             let mut wet = Vec::new();
             for f in me.boundary_faces() {
                 let global: Vec<Vec3> = f.vertices.iter().map(|v| mesh.to_global(&(corner + v))).collect();

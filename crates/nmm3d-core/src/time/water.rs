@@ -24,7 +24,7 @@ pub(super) fn add_water(sys: &System, state: &Motion, loads: &mut [Vec3]) {
         .filter_map(|(k, &e)| {
             let me = &sys.covers.elements[e];
             let r = state.rotations[e];
-            let x0 = me.centroid(&sys.covers.mesh);
+            let x0 = me.centroid(sys.covers.mesh_of(me));
             let u: Vec3 = weights_at(&sys.covers, me, &x0).iter().zip(&me.covers).map(|(w, &c)| *w * state.u[c]).sum();
             let up = r.transpose() * w.up;
             let table = w.table - w.up.dot(&(x0 + u)) + up.dot(&x0);

@@ -69,6 +69,10 @@ pub struct Body {
     /// equations either way, and a fine mesh of it would cost memory and detection time.
     #[serde(default)]
     pub fixed_mesh: bool,
+    /// Cell edge of this body's mesh [m] (addition to v1; default `[cover] size`): the same
+    /// node and rotation as `[cover]`, e.g. a fine mesh where stresses matter.
+    #[serde(default)]
+    pub cover_size: Option<f64>,
     /// Initial velocity [m/s].
     #[serde(default)]
     pub velocity: [f64; 3],

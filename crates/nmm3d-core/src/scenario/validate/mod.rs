@@ -283,6 +283,9 @@ fn bodies(c: &mut Checker, s: &Scenario) {
         if b.velocity.iter().chain(b.angular_velocity.iter()).any(|v| !v.is_finite()) {
             c.fail(format!("{p}.velocity"), "must be finite");
         }
+        if let Some(size) = b.cover_size {
+            c.positive(&format!("{p}.cover_size"), size);
+        }
         if matches!(b.shape, Shape::Tunnel(_)) {
             c.fail(format!("{p}.shape.tunnel"), "a tunnel is only allowed as an excavation shape");
         }
