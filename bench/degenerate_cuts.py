@@ -185,7 +185,7 @@ def main() -> None:
         f"`python bench/degenerate_cuts.py --cases {args.cases} --seed {args.seed}` (do not edit by hand) — "
         f"{platform.machine()}, {os.cpu_count()} cores, load {load:.1f} at the start, {wall:.0f} s.",
         "",
-        (__doc__ or "").split("\n\n", 1)[1].split("\n\nRun:")[0].strip(),
+        "\n\n".join((__doc__ or "").split("\n\n")[2:]).strip(),  # what each case is
         "",
         "Columns: cases of the class; cuts refused (of two per case); the largest |Σ V − V| / V at the",
         "origin; the same at the shifted coordinates in units of their resolution (8 ulp of 4·10⁶ m",
