@@ -28,6 +28,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -75,11 +76,12 @@ def per_block_study(d: dict, tolerance: float, out: str) -> tuple[dict, list[dic
                for b in s.get("blocks", [])]
 
 
-#: A joint spring ten times the thesis's (260 MN/m per contact point) [N/m]: the layer's blocks then
-#: hardly rock on their joints (the stiff-joint study of the page).
-STIFF = 2.6e9
-#: The thesis's joint spring (Table 5-1) [N/m per contact point], as in the example.
-THESIS_SPRING = 2.6e8
+#: The thesis's joint spring (Table 5-1: 260 MN/m per contact point), as the example gives it: per
+#: point carrying one cell's face (0.26 GPa/m of face) [N/m].
+THESIS_SPRING = float(tomllib.loads(EXAMPLE.read_text())["contact"]["normal_stiffness"])
+#: Ten times the thesis's spring [N/m]: the layer's blocks then hardly rock on their joints (the
+#: stiff-joint study of the page).
+STIFF = 10.0 * THESIS_SPRING
 
 
 def study_input(*sets: str) -> dict:
