@@ -521,7 +521,7 @@ def main() -> None:
             "vector method and the NMM critical-friction studies: `tests/test_keyblocks.py` and "
             "[keyblocks-results.md](keyblocks-results.md); the thesis tunnel's roof and side-wall key blocks, limit "
             "equilibrium against per-block NMM studies: [applications/tunnel-key-blocks.md](applications/tunnel-key-blocks.md); "
-            "the thesis rock slope's blocks, block theory against a per-block NMM study of the dry slope: "
+            "the thesis rock slope's blocks, block theory against a per-block NMM study of the dry slope, and like for like with the layer's base held: "
             "[applications/rock-slope-loading.md](applications/rock-slope-loading.md).",
             ""]
     (ROOT / "docs" / "verification.md").write_text("\n".join(head + rep.lines))
