@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import argparse
 import copy
+import json
 import math
 import os
 import platform
@@ -247,10 +248,44 @@ def agreement(n: int, seed: int) -> dict:
     return {"cases": n, "seed": seed, "counts": counts, "findings": findings}
 
 
+KILLED = EXAMPLES / "dominos.toml"
+KILL_SETS = ["analysis.duration=1.0", "analysis.checkpoint_interval=0.1"]
+
+
+def kills(n: int, seed: int) -> dict:
+    """`n` runs of the dominos killed (SIGKILL, as the machine or a user's `kill -9` does) at
+    seeded moments and resumed (`--resume`) until they complete, against one uninterrupted run:
+    whether `history.csv` and `diagnostics.csv` are the same bytes."""
+    import signal
+
+    rng, rows = random.Random(seed), []
+    cmd = [sys.executable, "-m", "nmm3d", "run", str(KILLED), "--quiet", *sum((["--set", x] for x in KILL_SETS), [])]
+    with tempfile.TemporaryDirectory() as tmp:
+        clock = time.perf_counter()
+        subprocess.run([*cmd, "--out", f"{tmp}/whole"], check=True, capture_output=True)
+        whole = time.perf_counter() - clock
+        same = lambda d, f: (Path(d) / f).read_bytes() == (Path(tmp) / "whole" / f).read_bytes()  # noqa: E731
+        for k in range(n):
+            out, at = f"{tmp}/k{k}", rng.uniform(0.1, 0.9) * whole
+            p = subprocess.Popen([*cmd, "--out", out], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            time.sleep(at)
+            p.send_signal(signal.SIGKILL)
+            p.wait()
+            step = None
+            if (Path(out) / "checkpoint.json").exists():
+                step = json.loads((Path(out) / "checkpoint.json").read_text())["state"]["motion"]["step"]
+            again = subprocess.run([*cmd, "--out", out, *(["--resume"] if step is not None else ["--overwrite"])],
+                                   capture_output=True, text=True)
+            rows.append({"at": at, "step": step, "exit": again.returncode,
+                         "same": again.returncode == 0 and same(out, "history.csv") and same(out, "diagnostics.csv")})
+    return {"n": n, "seed": seed, "whole": whole, "rows": rows}
+
+
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__)
     p.add_argument("--agreement", type=int, default=300, help="mutated scenarios of the agreement campaign")
     p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--kills", type=int, default=14, help="runs killed and resumed")
     args = p.parse_args()
     rows = [(c, run_case(c)) for c in _cases()]
     out = [
@@ -279,8 +314,20 @@ def main() -> None:
             f"run could start: a monitor, bolt or load in no block, bodies overlapping), {a['counts']['ran']} ran. "
             f"Disagreements and unexpected exceptions: **{len(a['findings'])}**"
             + ("." if not a["findings"] else ":"), *[f"* {x}" for x in a["findings"]]]
+    k = kills(args.kills, args.seed)
+    identical = sum(r["same"] for r in k["rows"])
+    out += ["", "## Killed and resumed", "",
+            f"`python bench/reliability.py --kills {k['n']} --seed {k['seed']}`: `examples/dominos.toml` for 1 s "
+            f"({', '.join(KILL_SETS)}; {k['whole']:.1f} s uninterrupted) killed with SIGKILL {k['n']} times at seeded "
+            "moments, each resumed with `--resume` from its last checkpoint (run again with `--overwrite` where "
+            f"none was written yet): **{identical} of {k['n']}** ended with `history.csv` and `diagnostics.csv` the "
+            "same bytes as the uninterrupted run's.", "",
+            "| killed at [s] | checkpoint step | exit of the resumed run | identical |", "|---:|---:|---:|---|",
+            *[f"| {r['at']:.2f} | {r['step'] if r['step'] is not None else 'none'} | {r['exit']} | "
+              f"{'yes' if r['same'] else 'no'} |" for r in k["rows"]]]
     (ROOT / "docs" / "reliability.md").write_text("\n".join(out) + "\n")
     bad = [c.what for c, r in rows if r["exit"] != c.expect or r["traceback"]] + a["findings"]
+    bad += [f"killed at {r['at']:.2f} s: not identical" for r in k["rows"] if not r["same"]]
     print(f"{len(rows)} cases, {len(bad)} unexpected: {bad}")
 
 

@@ -21,3 +21,13 @@ def test_bad_input_or_condition_ends_cleanly(case):
     assert r["exit"] == case.expect, r
     if case.expect != 0:
         assert r["message"], "a failure says why"
+
+
+def test_a_killed_run_resumes_to_the_same_bytes():
+    """SIGKILL mid-run, then `--resume`: the history and diagnostics of the uninterrupted run,
+    byte for byte (the full campaign: `bench/reliability.py --kills 14`, docs/reliability.md)."""
+    from reliability import kills
+
+    k = kills(2, seed=3)
+    assert all(r["exit"] == 0 for r in k["rows"]), k["rows"]
+    assert all(r["same"] for r in k["rows"]), k["rows"]

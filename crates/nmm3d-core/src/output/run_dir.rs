@@ -99,7 +99,17 @@ fn remove_if_present(path: &Path) -> Result<()> {
 /// as does one of this very process — another run in one of its threads).
 fn alive(pid: u32) -> bool {
     let proc = Path::new("/proc");
-    pid == std::process::id() || !proc.is_dir() || proc.join(pid.to_string()).exists()
+    if pid == std::process::id() || !proc.is_dir() {
+        return true;
+    }
+    // A killed run its parent has not reaped yet (a zombie, state Z) writes no more: `stat` is
+    // "pid (name) state …", the name in parentheses.
+    match std::fs::read_to_string(proc.join(pid.to_string()).join("stat")) {
+        Ok(stat) => {
+            !matches!(stat.rsplit_once(')').and_then(|(_, rest)| rest.trim_start().chars().next()), Some('Z' | 'X'))
+        }
+        Err(_) => proc.join(pid.to_string()).exists(),
+    }
 }
 
 #[cfg(test)]
@@ -110,6 +120,23 @@ mod tests {
         let d = std::env::temp_dir().join(format!("nmm3d_run_dir_{name}_{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&d);
         d
+    }
+
+    #[test]
+    fn a_killed_process_not_yet_reaped_holds_no_lock() {
+        if !Path::new("/proc").is_dir() {
+            return;
+        }
+        let mut child = std::process::Command::new("sleep").arg("30").spawn().unwrap();
+        assert!(alive(child.id()));
+        child.kill().unwrap();
+        // Dead but not waited for: a zombie until `wait`.
+        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(5);
+        while alive(child.id()) && std::time::Instant::now() < deadline {
+            std::thread::sleep(std::time::Duration::from_millis(10));
+        }
+        assert!(!alive(child.id()), "a zombie counted as a live run");
+        child.wait().unwrap();
     }
 
     #[test]
