@@ -137,8 +137,8 @@ def growth(rows: list[dict]) -> list[str]:
             "candidates. The factor's does not: its entries per block go",
             f"from {per(first, 'factor'):,.0f} to {per(last, 'factor'):,.0f} — a nested-dissection factor of a",
             "three-dimensional web of contacts fills as N^(4/3) and costs N² (George 1973; Lipton, Rose & Tarjan 1979)",
-            "— and its time per entry grows once it outgrows the processor's cache; warning and detection per point go",
-            f"from {point_us(first):.2f} to {point_us(last):.2f} µs (a larger working set), and the open–close iterations",
+            "— and its time per entry grows once it outgrows the processor's cache; warning and detection take",
+            f"{', '.join(f'{point_us(r):.2f}' for r in big)} µs per point, and the open–close iterations",
             "per step grow too (a step iterates until its last contact settles)."]
     return out
 
