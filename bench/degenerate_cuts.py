@@ -12,11 +12,13 @@ against each other (issue 13, item 4):
 * `pair`: a plane through the box and a second one 1e-8 … 1e-14 of the size beside it, or
   turned by 1e-8 … 1e-14 rad;
 * `set`: a joint set along the box's axes whose planes fall on its faces and within it;
+* `hole`: a box excavated from the middle of it, and a plane on a face of the hole or 1e-8 …
+  1e-14 of the size off it;
 
 each with a plane of random orientation through the box besides. Every case is cut once with
 the box at the origin and once shifted to survey coordinates (1e6, 4e6, 1e3) m, through the
 `nmm3d` Python API (`Scenario.blocks()`). Checks: nothing is refused; the blocks fill the box
-(Σ volumes against the box's volume, as its shifted coordinates represent it); the shifted case
+(Σ volumes against the box's volume less the hole's, as the shifted coordinates represent them); the shifted case
 makes the same blocks (count, and sorted volumes to the resolution its coordinates carry,
 relative to the box's volume).
 """
@@ -34,7 +36,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 PAGE = ROOT / "docs" / "cutting-degenerate.md"
 SHIFT = (1.0e6, 4.0e6, 1.0e3)
-CLASSES = ("vertex", "edge", "face", "pair", "set")
+CLASSES = ("vertex", "edge", "face", "pair", "set", "hole")
 OFFSETS = (0.0, 1e-8, 1e-10, 1e-12, 1e-14)
 EPS = 2.0**-52
 # `cutting.sliver_ratio`, its default.
@@ -45,24 +47,32 @@ def plane(dip: float, dd: float, point: list[float]) -> dict:
     return {"dip": dip, "dip_direction": dd, "point": point}
 
 
-def features(kind: str, size: float, rng: random.Random) -> tuple[list[dict], list[dict]]:
-    """Joint planes and joint sets of one degenerate kind, for a box [0, size]³."""
+def features(kind: str, size: float, rng: random.Random) -> tuple[list[dict], list[dict], list[list[float]]]:
+    """Joint planes, joint sets and excavated boxes (min and max corners) of one degenerate kind,
+    for a box [0, size]³."""
     corner = [size * rng.randint(0, 1) for _ in range(3)]
     tiny = rng.choice(OFFSETS) * rng.choice((-1.0, 1.0))
+    if kind == "hole":
+        lo, hi = [size * rng.uniform(0.2, 0.4) for _ in range(3)], [size * rng.uniform(0.6, 0.8) for _ in range(3)]
+        axis = rng.randrange(3)
+        at = [lo, hi][rng.randint(0, 1)][:]
+        at[axis] += tiny * size
+        dip, dd = ((90.0, 90.0), (90.0, 0.0), (0.0, 0.0))[axis]
+        return [plane(dip, dd, at)], [], [lo + hi]
     if kind == "vertex":
-        return [plane(90.0 * rng.random(), 360.0 * rng.random(), corner)], []
+        return [plane(90.0 * rng.random(), 360.0 * rng.random(), corner)], [], []
     if kind == "edge":
         axis = rng.randrange(3)
         if axis == 2:  # a vertical edge: any vertical plane through it
-            return [plane(90.0, 360.0 * rng.random(), corner)], []
+            return [plane(90.0, 360.0 * rng.random(), corner)], [], []
         dd = rng.choice((0.0, 180.0)) if axis == 0 else rng.choice((90.0, 270.0))
-        return [plane(90.0 * rng.random(), dd, corner)], []
+        return [plane(90.0 * rng.random(), dd, corner)], [], []
     if kind == "face":
         axis = rng.randrange(3)
         at = corner[:]
         at[axis] += tiny * size
         dip, dd = ((90.0, 90.0), (90.0, 0.0), (0.0, 0.0))[axis]
-        return [plane(dip, dd, at)], []
+        return [plane(dip, dd, at)], [], []
     if kind == "pair":
         dip, dd = 10.0 + 70.0 * rng.random(), 360.0 * rng.random()
         p = [size * (0.2 + 0.6 * rng.random()) for _ in range(3)]
@@ -70,12 +80,12 @@ def features(kind: str, size: float, rng: random.Random) -> tuple[list[dict], li
         if rng.random() < 0.5:
             n = normal(dip, dd)
             q = [p[k] + small * size * n[k] for k in range(3)]
-            return [plane(dip, dd, p), plane(dip, dd, q)], []
-        return [plane(dip, dd, p), plane(dip + math.degrees(small), dd, p)], []
+            return [plane(dip, dd, p), plane(dip, dd, q)], [], []
+        return [plane(dip, dd, p), plane(dip + math.degrees(small), dd, p)], [], []
     # A set along an axis with its planes on the faces and k - 1 planes inside.
     axis, k = rng.randrange(3), rng.randint(1, 4)
     dip, dd = ((90.0, 90.0), (90.0, 0.0), (0.0, 0.0))[axis]
-    return [], [{"dip": dip, "dip_direction": dd, "spacing": size / k, "origin": [0.0, 0.0, 0.0]}]
+    return [], [{"dip": dip, "dip_direction": dd, "spacing": size / k, "origin": [0.0, 0.0, 0.0]}], []
 
 
 def normal(dip: float, dd: float) -> list[float]:
@@ -83,7 +93,8 @@ def normal(dip: float, dd: float) -> list[float]:
     return [math.sin(a) * math.sin(b), math.sin(a) * math.cos(b), math.cos(a)]
 
 
-def scenario(size: float, planes: list[dict], sets: list[dict], o: tuple[float, float, float]) -> dict:
+def scenario(size: float, planes: list[dict], sets: list[dict], holes: list[list[float]],
+             o: tuple[float, float, float]) -> dict:
     move = lambda p: [p[k] + o[k] for k in range(3)]  # noqa: E731
     return {
         "cover": {"size": size},
@@ -92,6 +103,7 @@ def scenario(size: float, planes: list[dict], sets: list[dict], o: tuple[float, 
                   "shape": {"box": {"min": move([0.0, 0.0, 0.0]), "max": move([size, size, size])}}}],
         "joint_plane": [dict(p, point=move(p["point"])) for p in planes],
         "joint_set": [dict(s, origin=move(s["origin"])) for s in sets],
+        "excavation": [{"shape": {"box": {"min": move(h[:3]), "max": move(h[3:])}}} for h in holes],
     }
 
 
@@ -105,18 +117,20 @@ def cut(d: dict) -> tuple[list[float] | None, str]:
 
 
 def box_volume(d: dict) -> float:
-    b = d["body"][0]["shape"]["box"]
-    return math.prod(b["max"][k] - b["min"][k] for k in range(3))
+    """The body's volume less its excavations', as the (shifted) coordinates represent them."""
+    boxes = [d["body"][0]["shape"]["box"], *(e["shape"]["box"] for e in d["excavation"])]
+    v = [math.prod(b["max"][k] - b["min"][k] for k in range(3)) for b in boxes]
+    return v[0] - sum(v[1:])
 
 
 def run_case(rng: random.Random) -> dict:
     kind = rng.choice(CLASSES)
     size = 10.0 ** rng.uniform(-3.0, 3.0)
-    planes, sets = features(kind, size, rng)
+    planes, sets, holes = features(kind, size, rng)
     planes.append(plane(90.0 * rng.random(), 360.0 * rng.random(), [size * rng.random() for _ in range(3)]))
     row = {"kind": kind, "size": size}
     for where, o in (("origin", (0.0, 0.0, 0.0)), ("far", SHIFT)):
-        d = scenario(size, planes, sets, o)
+        d = scenario(size, planes, sets, holes, o)
         volumes, error = cut(d)
         v = box_volume(d)
         row[where] = {"volumes": volumes, "error": error, "box": v,

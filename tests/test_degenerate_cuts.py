@@ -1,7 +1,7 @@
 """Degenerate cuts at any scale and position (issue 13, item 4): the suite's subset of
 `bench/degenerate_cuts.py` (the full 10 000 cases: docs/cutting-degenerate.md). Planes through
 a box's corners and edges, on its faces or 1e-8 … 1e-14 of its size off them, pairs as close or
-as near parallel, sets on the faces; boxes of 1 mm to 1 km, at the origin and at (1e6, 4e6,
+as near parallel, sets on the faces, planes on the faces of an excavated hole; boxes of 1 mm to 1 km, at the origin and at (1e6, 4e6,
 1e3) m: nothing refused, the blocks fill the box, and the shifted box is cut alike (up to
 which neighbour takes a sliver).
 """
