@@ -31,3 +31,16 @@ def test_a_killed_run_resumes_to_the_same_bytes():
     k = kills(2, seed=3)
     assert all(r["exit"] == 0 for r in k["rows"]), k["rows"]
     assert all(r["same"] for r in k["rows"]), k["rows"]
+
+
+def test_a_full_disk_ends_with_a_summary_that_says_so():
+    """A run into a 200 kB file system: exit 1, `summary.json` says `failed` and why, and no
+    partial file is left holding the space (needs the right to mount a tmpfs)."""
+    from reliability import full_disk
+
+    f = full_disk()
+    if f is None:
+        pytest.skip("cannot mount a tmpfs here")
+    assert f["exit"] == 1 and not f["traceback"], f
+    assert f["status"] == "failed" and "No space left" in f["message"], f
+    assert not f["partial"], f
