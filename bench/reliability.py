@@ -67,6 +67,8 @@ fixed = true
 shape = { box = { min = [-1.0, -1.0, -1.0], max = [2.0, 2.0, 0.0] } }
 """
 SET = '\n[[joint_set]]\ndip = 30.0\ndip_direction = 90.0\nspacing = 0.25\njoint = "j"\n'
+# An excavation around the whole cube: nothing is left.
+ALL_GONE = CUBE + '\n[[excavation]]\nshape = { box = { min = [-1.0, -1.0, -1.0], max = [2.0, 2.0, 2.0] } }\n'
 OK, FAILED, INPUT = 0, 1, 2
 
 
@@ -127,6 +129,10 @@ def _cases() -> list[Case]:
              INPUT),
         Case("empty bodies", "a box with min = max", [*check, "--set", "body.cube.shape.box.max=[0.0, 0.0, 0.0]"],
              INPUT),
+        Case("empty bodies", "an excavation that removes everything: check", check, INPUT, ALL_GONE),
+        Case("empty bodies", "an excavation that removes everything: blocks", ["blocks", "{s}", "--out", "{d}/b"],
+             INPUT, ALL_GONE),
+        Case("empty bodies", "an excavation that removes everything: run", run, INPUT, ALL_GONE),
         Case("paths", "scenario file missing", ["check", "{d}/missing.toml"], INPUT),
         Case("paths", "a directory as the scenario", ["check", "{d}"], INPUT),
         Case("paths", "a FIFO as the scenario (would hang)", ["check", "{d}/fifo.toml"], INPUT, prepare=_fifo),

@@ -64,7 +64,7 @@ fn blocks_json(py: Python<'_>, text: String, label: String, out: Option<PathBuf>
         errors::guard("cutting the blocks", || {
             let s = input::from_json_str(&text, &label, &[])?;
             match out {
-                Some(dir) => nmm3d_core::blocks::report(&s, &dir),
+                Some(dir) => nmm3d_core::blocks::report(&s, &label, &dir),
                 None => Ok(nmm3d_core::blocks::table(&s)),
             }
         })

@@ -9,10 +9,12 @@ use crate::model::Geometry;
 use crate::output::{tables, vtu};
 use crate::scenario::Scenario;
 
-/// Build the blocks, write `blocks.csv` and `blocks.vtu` to `out`, return the report.
-pub fn report(scenario: &Scenario, out: &Path) -> Result<Value> {
+/// Build the blocks, write `blocks.csv` and `blocks.vtu` to `out`, return the report (an input
+/// error naming `label` when no block is left).
+pub fn report(scenario: &Scenario, label: &str, out: &Path) -> Result<Value> {
     let t = std::time::Instant::now();
     let geometry = Geometry::from_scenario(scenario);
+    geometry.require_blocks(label)?;
     let cutting_seconds = t.elapsed().as_secs_f64();
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
     tables::write_block_rows(scenario, &geometry, out)?;

@@ -42,6 +42,19 @@ impl Geometry {
         Self::cut_keeping(s, &vec![false; s.excavation.len()])
     }
 
+    /// An input error when no block is left (excavations that remove every body): nothing to
+    /// analyse, and every later step assumes a block.
+    pub fn require_blocks(&self, label: &str) -> crate::error::Result<()> {
+        match self.blocks.is_empty() {
+            true => Err(crate::error::Error::input(
+                label,
+                "excavation",
+                "the excavations remove every block: nothing is left to analyse",
+            )),
+            false => Ok(()),
+        }
+    }
+
     /// The rock mass of a staged analysis: as [`Self::from_scenario`], but the rock inside each
     /// excavation a stage removes stays as plug blocks (after the rock blocks, which are
     /// numbered as without stages) until that stage.

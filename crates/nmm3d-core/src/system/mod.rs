@@ -84,6 +84,7 @@ impl System {
     /// Discretise a validated scenario (`label` names it in error messages).
     pub fn build(scenario: Scenario, label: &str) -> Result<Self> {
         let geometry = Geometry::from_scenario(&scenario);
+        geometry.require_blocks(label)?;
         let extent = geometry.aabb().extent();
         Self::on_geometry(scenario, geometry, extent, label)
     }
@@ -91,6 +92,7 @@ impl System {
     /// Discretise the blocks `geometry` of a validated scenario, the cover sized for a model of
     /// `ext` [m] (a stage's blocks take the whole rock mass's, so that every stage has one mesh).
     pub fn on_geometry(scenario: Scenario, geometry: Geometry, ext: Vec3, label: &str) -> Result<Self> {
+        geometry.require_blocks(label)?;
         let t = Instant::now();
         // Everything else in the blocks' local frame too (points, regions, the cover's origin).
         let scenario = scenario.shifted(geometry.origin.into());
