@@ -288,23 +288,29 @@ def kills(n: int, seed: int) -> dict:
 
 
 def full_disk() -> dict | None:
-    """A run into a 200 kB file system (a tmpfs; `None` without the right to mount one): its exit
-    status, what its `summary.json` says, and the partial files it left."""
-    with tempfile.TemporaryDirectory() as tmp:
-        mnt = Path(tmp) / "tiny"
-        mnt.mkdir()
-        if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=200k", "tmpfs", str(mnt)],
-                          capture_output=True).returncode != 0:
-            return None
-        try:
-            r = subprocess.run([sys.executable, "-m", "nmm3d", "run", str(EXAMPLES / "incline.toml"), "--out",
-                                str(mnt / "out"), "--quiet"], capture_output=True, text=True)
-            path = mnt / "out" / "summary.json"
-            summary = json.loads(path.read_text()) if path.exists() else {}
-            return {"exit": r.returncode, "traceback": "Traceback" in r.stderr, "status": summary.get("status"),
-                    "message": summary.get("message", ""), "partial": sorted(p.name for p in mnt.rglob(".*.partial"))}
-        finally:
-            subprocess.run(["umount", str(mnt)], capture_output=True)
+    """A run and `nmm3d blocks` (its stereonet a picture Python writes) into a 200 kB and a 40 kB
+    file system (tmpfs; `None` without the right to mount one): exit status, traceback, what the
+    run's `summary.json` says, and the partial files left."""
+    out = {}
+    for what, size, args in (("run", "200k", ["run", str(EXAMPLES / "incline.toml"), "--quiet"]),
+                             ("blocks", "40k", ["blocks", str(EXAMPLES / "rock_slope.toml")])):
+        with tempfile.TemporaryDirectory() as tmp:
+            mnt = Path(tmp) / "tiny"
+            mnt.mkdir()
+            if subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={size}", "tmpfs", str(mnt)],
+                              capture_output=True).returncode != 0:
+                return None
+            try:
+                r = subprocess.run([sys.executable, "-m", "nmm3d", *args, "--out", str(mnt / "out")],
+                                   capture_output=True, text=True)
+                path = mnt / "out" / "summary.json"
+                summary = json.loads(path.read_text()) if path.exists() else {}
+                out[what] = {"exit": r.returncode, "traceback": "Traceback" in r.stderr, "status": summary.get("status"),
+                             "message": summary.get("message", "") or r.stderr.strip().splitlines()[-1],
+                             "partial": sorted(p.name for p in mnt.rglob(".*.partial"))}
+            finally:
+                subprocess.run(["umount", str(mnt)], capture_output=True)
+    return out
 
 
 def main() -> None:
@@ -356,10 +362,13 @@ def main() -> None:
     if f is None:
         out.append("Not measured here: mounting a small file system needs privileges this machine did not give.")
     else:
+        r, b = f["run"], f["blocks"]
         out += ["`examples/incline.toml` run into a 200 kB tmpfs, which fills while its frames are written: "
-                f"exit {f['exit']}, traceback {'yes' if f['traceback'] else 'no'}; `summary.json` says "
-                f"`{f['status']}`: {f['message']}; partial files left: {', '.join(f['partial']) or 'none'} "
-                "(a write that fails removes its partial file, so the summary finds the room it needs)."]
+                f"exit {r['exit']}, traceback {'yes' if r['traceback'] else 'no'}; `summary.json` says "
+                f"`{r['status']}`: {r['message']}; partial files left: {', '.join(r['partial']) or 'none'} "
+                "(a write that fails removes its partial file, so the summary finds the room it needs). "
+                "`nmm3d blocks examples/rock_slope.toml` into a 40 kB tmpfs, full before its stereonet: "
+                f"exit {b['exit']}, traceback {'yes' if b['traceback'] else 'no'}: {b['message']}"]
     (ROOT / "docs" / "reliability.md").write_text("\n".join(out) + "\n")
     bad = [c.what for c, r in rows if r["exit"] != c.expect or r["traceback"]] + a["findings"]
     bad += [f"killed at {r['at']:.2f} s: not identical" for r in k["rows"] if not r["same"]]

@@ -249,6 +249,11 @@ def main(argv: list[str] | None = None) -> int:
         # The reader of our output went away (`nmm3d blocks … | head`): stop quietly.
         sys.stderr.close()
         return EXIT_OK
+    except OSError as e:
+        # A picture or table Python writes (a stereonet, a plot) on a full or read-only disk.
+        where = f" {e.filename}" if e.filename else ""
+        print(f"nmm3d: cannot write{where}: {e.strerror or e}", file=sys.stderr)
+        return EXIT_FAILED
 
 
 if __name__ == "__main__":
