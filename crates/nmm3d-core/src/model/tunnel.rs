@@ -79,6 +79,9 @@ fn segments(t: &Tunnel, default: u32) -> Result<u32, String> {
 
 /// Axis frame: unit axis, side and up vectors.
 fn frame(t: &Tunnel) -> Result<(Vec3, Vec3, Vec3), String> {
+    if !t.start.iter().chain(&t.end).all(|v| v.is_finite()) {
+        return Err("start and end must be finite points".into());
+    }
     let axis = Vec3::from(t.end) - Vec3::from(t.start);
     let len = axis.norm();
     if !(len > 0.0) {
