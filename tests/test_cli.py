@@ -156,8 +156,11 @@ def test_a_bound_checks_a_qualitative_outcome(tmp_path):
 
 def test_ctrl_c_stops_after_the_current_step_with_a_valid_summary(tmp_path):
     out = tmp_path / "long"
+    # A suite started in the background of a script inherits SIGINT ignored (POSIX: no job
+    # control), and a child that starts with it ignored never sees Ctrl-C: give it the default.
     p = subprocess.Popen([sys.executable, "-m", "nmm3d", "run", str(EXAMPLES / "incline.toml"), "--out", str(out),
-                          "--set", "analysis.duration=1000"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                          "--set", "analysis.duration=1000"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     first = p.stderr.readline()  # the first progress line: the run is stepping
     assert "ETA" in first and "Δt" in first and "contacts" in first, first
     time.sleep(1.0)
