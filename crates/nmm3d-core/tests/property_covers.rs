@@ -141,7 +141,7 @@ fn separate_blocks_get_separate_physical_covers() {
 
 /// The fraction of its sub-cell that each ME fills.
 fn fractions(covers: &Covers) -> Vec<f64> {
-    let s3 = covers.mesh.size.powi(3);
+    let s3 = covers.mesh().size.powi(3);
     covers.elements.iter().map(|e| e.volume / (covers.pattern.of_cell(e.cell)[e.subcell].shape.volume() * s3)).collect()
 }
 
@@ -190,7 +190,7 @@ fn covers_without_a_substantial_me_are_tied_even_in_blocks_smaller_than_a_sub_ce
                         let w: f64 = masters.iter().map(|m| m.1).sum();
                         assert!((w - 1.0).abs() < 1e-9, "case {case} {kind:?}: weights sum to {w}");
                         let err = (x - covers.covers[c].position).norm();
-                        assert!(err < 1e-9 * covers.mesh.size, "case {case} {kind:?}: cover {c} off by {err:.2e}");
+                        assert!(err < 1e-9 * covers.mesh().size, "case {case} {kind:?}: cover {c} off by {err:.2e}");
                         assert!(masters.iter().all(|&(m, _)| tied[m].is_none()), "case {case}: a master is tied");
                     }
                 }

@@ -47,7 +47,7 @@ pub struct Candidate {
 
 /// Boundary facets of every ME of `block` lying on the reference piece `piece` (its surface).
 pub fn facets_of_piece(sys: &System, block: usize, piece: &nmm3d_geom::ConvexPolyhedron) -> Vec<Facet> {
-    let tol = ON_PIECE * sys.covers.mesh.size;
+    let tol = ON_PIECE * sys.covers.mesh().size;
     let covers = &sys.covers;
     let mut out = Vec::new();
     for (e, me) in covers.elements.iter().enumerate().filter(|(_, me)| me.block == block) {

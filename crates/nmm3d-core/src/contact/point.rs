@@ -20,7 +20,7 @@ pub struct MaterialPoint {
 impl MaterialPoint {
     /// Locate a reference point of a block.
     pub fn new(sys: &System, block: usize, x: Vec3) -> Option<Self> {
-        let tol = 1e-7 * sys.covers.mesh.size;
+        let tol = 1e-7 * sys.covers.mesh().size;
         let e = sys.covers.locate(block, &x, tol)?;
         Some(Self { element: e, weights: weights_at(&sys.covers, &sys.covers.elements[e], &x), reference: x })
     }

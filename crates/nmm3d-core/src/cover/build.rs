@@ -31,9 +31,8 @@ use crate::model::{tags, Block, Geometry};
 /// The cover system of a model.
 #[derive(Debug, Clone)]
 pub struct Covers {
-    /// The mathematical mesh of `[cover]`: its size is the model's length scale (tolerances).
-    pub mesh: MathMesh,
-    /// Every mesh in use: `mesh` first, then those of bodies with their own `cover_size`.
+    /// Every mesh in use: `[cover]`'s first ([`Covers::mesh`]), then those of bodies with their
+    /// own `cover_size`.
     pub meshes: Vec<MathMesh>,
     /// Index into `meshes` of each block's mesh.
     pub block_mesh: Vec<usize>,
@@ -80,7 +79,7 @@ impl Covers {
             .filter(|(_, e)| geometry.blocks[e.block].whole)
             .map(|(i, e)| (e.block, i))
             .collect();
-        Self { mesh: meshes[0], meshes, block_mesh, pattern, elements, covers, by_cell, whole }
+        Self { meshes, block_mesh, pattern, elements, covers, by_cell, whole }
     }
 
     /// Build MEs and physical covers of every block on one mesh.
@@ -91,6 +90,11 @@ impl Covers {
     /// Weight functions of an ME's nodes.
     pub fn weights(&self, e: &ManifoldElement) -> &[poly::Poly] {
         &self.pattern.of_cell(e.cell)[e.subcell].weights
+    }
+
+    /// The mathematical mesh of `[cover]`: its size is the model's length scale (tolerances).
+    pub fn mesh(&self) -> &MathMesh {
+        &self.meshes[0]
     }
 
     /// The mesh an ME is cut from.

@@ -110,7 +110,7 @@ pub fn boundary_face_integrals(
     let mut total: Option<Vec<f64>> = None;
     let cos_tol = NORMAL_TOLERANCE_DEG.to_radians().cos();
     for f in e.boundary_faces() {
-        let inside = f.vertices.iter().all(|v| bb.contains(&covers.global(e, v), 1e-9 * covers.mesh.size));
+        let inside = f.vertices.iter().all(|v| bb.contains(&covers.global(e, v), 1e-9 * covers.mesh().size));
         let facing =
             normal.is_none_or(|n| (mesh.rotation * f.area_vector()).normalize().dot(&n.normalize()) >= cos_tol);
         if !inside || !facing {

@@ -55,10 +55,7 @@ pub fn estimate(s: &Scenario) -> Option<Estimate> {
             shape => shape_to_pieces(shape).ok()?.iter().map(|p| p.aabb()).reduce(|a, c| a.union(&c)),
         });
     }
-    let union = |keep: &dyn Fn(usize) -> bool| {
-        own.iter().enumerate().filter(|(k, _)| keep(*k)).filter_map(|(_, b)| *b).reduce(|a, c| a.union(&c))
-    };
-    let bb = union(&|_| true)?;
+    let bb = own.iter().filter_map(|b| *b).reduce(|a, c| a.union(&c))?;
     let ext = bb.extent();
     let size = cover_size(&s.cover, ext);
     // Each mesh (`[cover]`'s and one per body cover size) covers the box of the bodies it meshes

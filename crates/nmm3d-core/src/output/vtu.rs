@@ -188,7 +188,7 @@ impl Appended {
 /// Write one frame.
 pub fn write_frame(sys: &System, state: &Motion, path: &Path) -> Result<()> {
     let mut cells = Cells::default();
-    let quantum = POINT_QUANTUM * sys.covers.mesh.size;
+    let quantum = POINT_QUANTUM * sys.covers.mesh().size;
     let (mut disp, mut vel, mut reference) = (Vec::new(), Vec::new(), Vec::new());
     let (mut block_id, mut element_id, mut stress) = (Vec::new(), Vec::new(), Vec::new());
     for (e, me) in sys.covers.elements.iter().enumerate() {

@@ -32,7 +32,7 @@ pub struct BoltNode {
 /// The scenario's bolts as springs (an anchored bolt one, a grouted bolt one per joint it
 /// crosses) and, per bolt, its nodes for the frames.
 pub(super) fn bolt_springs(s: &Scenario, geometry: &Geometry, covers: &Covers, label: &str) -> Result<BoltSprings> {
-    let tol = 1e-9 * covers.mesh.size;
+    let tol = 1e-9 * covers.mesh().size;
     let node = |block: usize, x: Vec3, spring: Option<usize>| -> Option<BoltNode> {
         let e = covers.locate(block, &x, tol)?;
         let me = &covers.elements[e];
@@ -42,7 +42,7 @@ pub(super) fn bolt_springs(s: &Scenario, geometry: &Geometry, covers: &Covers, l
     for (i, b) in s.bolt.iter().enumerate() {
         let (head, anchor) = (Vec3::from(b.head), Vec3::from(b.anchor));
         let path = if b.grout.grouted {
-            let runs = traverse::runs(geometry, &head, &anchor, traverse::BOLT_SAMPLING * covers.mesh.size, tol);
+            let runs = traverse::runs(geometry, &head, &anchor, traverse::BOLT_SAMPLING * covers.mesh().size, tol);
             grouted(i, b, &runs, (&head, &anchor), &mut springs, &node).map_err(|p| {
                 let p = p + geometry.origin;
                 let at = format!("({:.6}, {:.6}, {:.6})", p.x, p.y, p.z);

@@ -257,7 +257,7 @@ impl System {
     }
 
     fn add_constraints(&mut self, label: &str) -> Result<()> {
-        let weld = 1e-9 * self.half_size.max(self.covers.mesh.size);
+        let weld = 1e-9 * self.half_size.max(self.covers.mesh().size);
         for (i, c) in self.scenario.constraint.clone().iter().enumerate() {
             let pts = penalty::boundary_vertices_in(&self.covers, &c.select, weld);
             if pts.is_empty() {
@@ -286,7 +286,7 @@ impl System {
 /// assembled on it.
 /// The block holding a reference point (first match), and the ME.
 fn locate(geometry: &Geometry, covers: &Covers, x: &Vec3) -> Option<(usize, usize)> {
-    let tol = 1e-9 * covers.mesh.size;
+    let tol = 1e-9 * covers.mesh().size;
     let b = geometry.blocks.iter().position(|b| b.contains(x, tol))?;
     covers.locate(b, x, tol).map(|e| (b, e))
 }

@@ -32,7 +32,7 @@ impl Stepper {
         // Where the last step started (its motion names the blocks still moving).
         let mut u_last = u_start.clone();
         // A settlement is elastic: a block that has sunk by a cover cell is held by nothing.
-        let sunk = |u: &[Vec3]| u.iter().zip(&u_start).any(|(u, u0)| (u - u0).norm() > sys.covers.mesh.size);
+        let sunk = |u: &[Vec3]| u.iter().zip(&u_start).any(|(u, u0)| (u - u0).norm() > sys.covers.mesh().size);
         state.stepper.inertia = false;
         while steps < analysis.max_steps && damped < analysis.max_settle_steps && !sunk(&state.motion.u) {
             // A static iteration that fails is undone before the damped steps take over.

@@ -24,7 +24,7 @@ pub(super) fn solver(sys: &System) -> ReusingSolver {
 pub(super) fn contact_params(sys: &System) -> ContactParams {
     let (a, k) = (&sys.scenario.analysis, &sys.scenario.contact);
     let young = sys.geometry.materials.iter().map(|m| m.young).fold(0.0, f64::max);
-    let size = sys.covers.mesh.size;
+    let size = sys.covers.mesh().size;
     let kn = match k.normal_stiffness {
         Stiffness::Value(v) => v,
         Stiffness::Auto => k.auto_penalty_factor * young * size,

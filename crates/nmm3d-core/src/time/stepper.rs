@@ -99,7 +99,7 @@ impl Stepper {
         state.contact = stepper.contacts.as_ref().map(|_| ContactHistory::new(contact_params(sys)));
         if let (Some(c), Some(h)) = (stepper.contacts.as_mut(), state.contact.as_mut()) {
             c.detect(sys, &state.motion, h, true);
-            let problems = overlap_problems(sys, h, sys.scenario.contact.overlap_tolerance * sys.covers.mesh.size);
+            let problems = overlap_problems(sys, h, sys.scenario.contact.overlap_tolerance * sys.covers.mesh().size);
             if !problems.is_empty() {
                 return Err(Error::Scenario { file: label.to_string(), problems });
             }
@@ -266,7 +266,7 @@ impl Stepper {
             // loads — raise it (×10, at most three times in a run) and repeat the step; after
             // that, cut the step like an unsettled one (an impact in smaller steps overlaps less).
             let too_deep = contact.as_ref().is_some_and(|h| {
-                h.overlap_growing_beyond(sys.scenario.contact.max_penetration_ratio * sys.covers.mesh.size)
+                h.overlap_growing_beyond(sys.scenario.contact.max_penetration_ratio * sys.covers.mesh().size)
             });
             let raise = sys.scenario.contact.penalty_raise;
             if too_deep && settled && run.penalty_raises < sys.scenario.contact.max_penalty_raises {

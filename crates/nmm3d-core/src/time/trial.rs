@@ -133,7 +133,7 @@ impl Stepper {
             }
             CutReason::OpenCloseUnsettled => (self.last_changes.len() as f64, cut::unsettled(&self.last_changes)),
             CutReason::Overlap | CutReason::PenaltyRaised => {
-                let depth = sys.scenario.contact.max_penetration_ratio * sys.covers.mesh.size;
+                let depth = sys.scenario.contact.max_penetration_ratio * sys.covers.mesh().size;
                 let (blocks, deepest) = cut::overlapping(contacts, depth);
                 (deepest, blocks)
             }
