@@ -133,6 +133,8 @@ def _cases() -> list[Case]:
         Case("empty bodies", "an excavation that removes everything: blocks", ["blocks", "{s}", "--out", "{d}/b"],
              INPUT, ALL_GONE),
         Case("empty bodies", "an excavation that removes everything: run", run, INPUT, ALL_GONE),
+        Case("empty bodies", "an excavation that removes everything: a staged run", run, INPUT,
+             ALL_GONE + '\n[[stage]]\nname = "only"\nduration = 0.01\n'),
         Case("paths", "scenario file missing", ["check", "{d}/missing.toml"], INPUT),
         Case("paths", "a directory as the scenario", ["check", "{d}"], INPUT),
         Case("paths", "a FIFO as the scenario (would hang)", ["check", "{d}/fifo.toml"], INPUT, prepare=_fifo),

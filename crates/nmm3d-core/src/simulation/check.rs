@@ -23,6 +23,7 @@ pub fn check(scenario: Scenario, label: &str) -> Result<Value> {
         return Ok(json!({ "stages": [size(&sys)] }));
     }
     let full = Geometry::staged(&scenario);
+    full.require_blocks(label)?;
     let extent = full.aabb().extent();
     let mut stages = Vec::new();
     for (k, at) in stage_scenarios(&scenario, label)?.into_iter().enumerate() {

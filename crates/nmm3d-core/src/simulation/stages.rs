@@ -59,6 +59,7 @@ pub(super) fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<
     let _dir = run_dir::open(out, label, true)?;
     let scenarios = stage_scenarios(&scenario, label)?;
     let full = Geometry::staged(&scenario);
+    full.require_blocks(label)?;
     let extent = full.aabb().extent();
     let mut saver = Saver::new(out, serde_json::Value::Null, 0.0);
     let _ = std::fs::remove_file(out.join("summary.json"));
