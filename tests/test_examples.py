@@ -38,6 +38,7 @@ CASES = {
     "roof_wedge_prism.toml": ["analysis.duration=0.1"],
     "roof_wedge_pyramid.toml": ["analysis.duration=0.1"],
     "drop_test.toml": [],
+    "damped_drop.toml": [],
     "block_on_joint.toml": [],
     "tetrahedral_wedge.toml": ["analysis.duration=0.2"],
     "block_tower.toml": ["analysis.max_steps=1000"],
@@ -108,7 +109,7 @@ def test_full_size_examples_meet_their_expectations(results):
 
 def test_examples_with_a_closed_form_state_it():
     for name in ("free_fall.toml", "bar_patch.toml", "hanging_bar.toml", "cantilever.toml",
-                 "cantilever_self_weight.toml", "incline.toml", "roof_wedge.toml", "drop_test.toml",
+                 "cantilever_self_weight.toml", "incline.toml", "roof_wedge.toml", "drop_test.toml", "damped_drop.toml",
                  "block_on_joint.toml", "tetrahedral_wedge.toml", "newmark_sliding_block.toml",
                  "incline_water.toml", "bolted_block.toml", "grouted_bolt.toml", "grouted_dowel.toml",
                  "two_wedges.toml", "sliding_wedge.toml"):

@@ -77,3 +77,24 @@ def test_sliding_wedge_critical_friction_angle_by_a_study(stiffness, tmp_path):
     s = nmm3d.Study(load(stiffness), tmp_path, ["study.tolerance=0.4"]).run(workers=2).summary
     assert s["status"] == "completed", s["message"]
     assert s["critical_friction_angle"] == pytest.approx(PHI_C, abs=0.5)
+
+
+def test_on_one_mpa_per_m_joints_the_damped_wedge_slides_and_rests_as_the_vector_method(tmp_path):
+    # Released onto joints this soft the wedge settles ~5 cm and swings on them for about a second
+    # (period ≈ 0.5 s; settled by about 1.5 s): undamped it slides 10 % fast at 30° and still moves at φc + 1°. A third of
+    # critical damping on the contacts (`contact.damping_ratio`) takes the swing out.
+    data = load("auto").to_dict()
+    data["joint"][0].update(normal_stiffness=1e6, shear_stiffness=1e6)
+    data["contact"] = {**data.get("contact", {}), "damping_ratio": 0.3}
+    ref = wedge(*PLANES, 30.0, g=G)
+    r = nmm3d.Scenario.from_dict({**data, "analysis": {**data["analysis"], "duration": 0.6}}).run(out=tmp_path / "a")
+    t, d = displacement(r)
+    late = t >= 0.3
+    assert 2.0 * np.polyfit(t[late], d[late] @ ref.direction, 2)[0] == pytest.approx(ref.acceleration, rel=0.01)
+    step = d[-1] - d[late][0]
+    assert math.degrees(math.acos(min(1.0, float(step @ ref.direction) / float(np.linalg.norm(step))))) < 1.0
+    data["joint"][0]["friction_angle"] = PHI_C + 1.0
+    r = nmm3d.Scenario.from_dict({**data, "analysis": {**data["analysis"], "duration": 2.4}}).run(out=tmp_path / "b")
+    t, d = displacement(r)
+    late = d[t >= 1.2]
+    assert float(np.linalg.norm(late[-1] - late[0])) < 1e-4, "still moving after it settled"

@@ -34,6 +34,8 @@ class EnergySummary:
     max_error_time: float
     #: set when ``max_error_ratio`` exceeds 5 %
     warning: str | None
+    #: taken by the contact dashpots (``contact.damping_ratio``); 0 in summaries before them
+    damping_dissipation: float = 0.0
 
 
 @dataclass(frozen=True)

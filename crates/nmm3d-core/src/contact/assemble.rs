@@ -76,7 +76,8 @@ impl ContactHistory {
                     n * n.dot(&r.preload) + spring - (r.strength.tan_phi * normal + r.strength.cohesion) * r.slip
                 }
             };
-            r.scatter(sys, &force, f);
+            // The dashpot's force at the last step's end (moved into `start` by the trial).
+            r.scatter(sys, &(force + r.damper.end), f);
         }
     }
 

@@ -33,6 +33,7 @@
 
 pub mod assemble;
 pub mod broad;
+pub mod damping;
 pub mod detect;
 pub mod facets;
 pub mod friction;

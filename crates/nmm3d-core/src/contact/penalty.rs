@@ -46,8 +46,8 @@ impl ContactRecord {
         self.gap -= shift;
     }
 
-    /// The point's spring in its current state, linearised: stiffness (3 × 3) and the constant
-    /// force on A (B takes the opposite).
+    /// The point's spring in its current state with its dashpot (`super::damping`),
+    /// linearised: stiffness (3 × 3) and the constant force on A (B takes the opposite).
     pub fn spring(&self) -> (Mat3, Vec3) {
         let (kn, ks) = (self.kn, self.ks);
         let n = self.normal;
@@ -70,7 +70,8 @@ impl ContactRecord {
             }
             ContactState::Open => return (Mat3::zeros(), Vec3::zeros()),
         }
-        (block, force)
+        let (damping, damper) = self.dashpot();
+        (block + damping, force + damper)
     }
 }
 

@@ -93,6 +93,25 @@ pub struct ContactRecord {
     pub opened: bool,
     /// Friction limit tan φ N + c applied while sliding [N].
     pub limit: f64,
+    /// The point's dashpot in this step (`contact.damping_ratio`).
+    #[serde(default)]
+    pub damper: Damper,
+}
+
+/// A point's dashpot in the current step (`super::damping`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct Damper {
+    /// Stiffness-proportional factor of the pair, c = 2ξ √(m/K) [s] (0: no damping).
+    pub c: f64,
+    /// γ/(βΔt): the end velocity per unit increment [1/s].
+    pub rate: f64,
+    /// The end velocity of A relative to B at zero increment, (1 − γ/β) v₀ + Δt (1 − γ/(2β)) a₀
+    /// [m/s].
+    pub lag: Vec3,
+    /// Damper force on A at the start of the step (the last step's end) [N].
+    pub start: Vec3,
+    /// Damper force on A the last solve applied [N].
+    pub end: Vec3,
 }
 
 /// Strength of a contact point: tan φ, and the bond (cohesion and tensile forces) it still has.
@@ -143,6 +162,9 @@ pub struct ContactParams {
     pub min_share: f64,
     /// Distance under which facet-overlay corners are one point [m].
     pub merge: f64,
+    /// Contact dashpots: fraction of critical damping of a block pair's normal mode [-].
+    #[serde(default)]
+    pub damping_ratio: f64,
 }
 
 impl ContactRecord {
@@ -197,6 +219,7 @@ impl ContactRecord {
             reclosed: 0,
             opened: false,
             limit: 0.0,
+            damper: Damper::default(),
             a: q.a,
             b: q.b,
         }
@@ -273,6 +296,7 @@ pub(super) fn test_point(state: ContactState, gap: f64) -> ContactRecord {
         reclosed: 0,
         opened: false,
         limit: 0.0,
+        damper: Damper::default(),
     }
 }
 
@@ -296,6 +320,7 @@ impl ContactParams {
             touching: 1e-3 * tolerance,
             min_share: 0.05,
             merge: 10.0 * tolerance,
+            damping_ratio: 0.0,
         }
     }
 }

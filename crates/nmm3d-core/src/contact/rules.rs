@@ -25,6 +25,7 @@ impl ContactHistory {
         for r in &mut self.records {
             // The spring this solve used, linearised about the last iterate.
             let (block, constant) = r.spring();
+            let (dashpot, pushed) = r.dashpot();
             let inc = |mp: &MaterialPoint| -> Vec3 {
                 sys.covers.elements[mp.element].covers.iter().zip(&mp.weights).map(|(&c, w)| *w * d[c]).sum()
             };
@@ -83,6 +84,9 @@ impl ContactHistory {
                 ContactState::Stick => r.preload - kn * r.gap * n - ks * shear,
                 ContactState::Slide => n * n.dot(&r.preload) - kn * r.gap * n + r.friction().0,
             };
+            // The dashpot as solved (its state's) and as it acts in the updated state.
+            r.damper.end = pushed - dashpot * r.rel;
+            r.force += r.damper_force(&r.rel);
             r.applied = constant - block * r.rel;
             mismatch += (r.applied - r.force).norm();
             total += r.force.norm();

@@ -148,6 +148,9 @@ pub struct EnergySummary {
     pub max_error_time: f64,
     /// Set when `max_error_ratio` exceeds 5 %.
     pub warning: Option<String>,
+    /// Energy dissipated by the contact dashpots (`contact.damping_ratio`) [J].
+    #[serde(default)]
+    pub damping_dissipation: f64,
 }
 
 /// Step cuts by reason and block, and the accepted steps by size.

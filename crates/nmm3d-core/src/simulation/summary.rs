@@ -138,6 +138,7 @@ fn energy_summary(
         max_error_ratio: worst.0,
         max_error_time: worst.1,
         warning,
+        damping_dissipation: e.damping,
     })
 }
 

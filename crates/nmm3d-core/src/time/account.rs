@@ -19,6 +19,8 @@ pub(super) struct Increment<'a> {
     pub(super) m_a0: &'a [Vec3],
     pub(super) kinetic0: f64,
     pub(super) friction: f64,
+    /// Energy the contact dashpots took over the step [J].
+    pub(super) damping: f64,
     /// Contact spring energy at the start and the end of the step [J].
     pub(super) springs: (f64, f64),
     /// Work of the contact forces on the blocks over the step [J].
@@ -63,8 +65,9 @@ pub(super) fn add_step(
         external_work,
         contact: s.springs.1,
         friction: s.friction,
+        damping: s.damping,
         numerical: inertial - (kinetic - s.kinetic0),
-        contact_events: -s.contact_work - (s.springs.1 - springs_before) - s.friction,
+        contact_events: -s.contact_work - (s.springs.1 - springs_before) - s.friction - s.damping,
         initial: 0.0,
     };
     let energy = so_far.get_or_insert_with(|| Energy::start(s.kinetic0, s.springs.0));

@@ -8,19 +8,21 @@
 //!   the start plus the tangent's increment: exact for linear elasticity);
 //! * contact spring energy S = Σ ½ k_n g² + ½ k_s |s|² over closed points (current);
 //! * friction dissipation D_f += Σ L |Δslip| over sliding points (limit × plastic slip);
+//! * damping D_d += −Σ ½ (f_d0 + f_d1) · Δrel over closed points (the contact dashpots'
+//!   forces at the step's start and end, `crate::contact::damping`);
 //! * numerical dissipation D_n += ½ d · M (a₀ + a₁) − ΔK, with a₀, a₁ the scheme's accelerations
 //!   at the start (the last step's end; at the first step the unbalanced force M a₀) and end:
 //!   the work of the mean inertial force beyond the kinetic energy gained — zero for the
 //!   trapezoidal rule (β = ¼, γ = ½), ½ d · (f₁ − f₀) ≥ 0 for the DDA scheme, which evaluates
 //!   the forces at the end of the step;
-//! * contact events D_c += −½ d · (f_c0 + f_c1) − (S₁ − S₀) − ΔD_f, with f_c0, f_c1 the contact
+//! * contact events D_c += −½ d · (f_c0 + f_c1) − (S₁ − S₀) − ΔD_f − ΔD_d, with f_c0, f_c1 the contact
 //!   forces on the covers that the scheme's accelerations a₀, a₁ carry and S₀, S₁ the springs'
 //!   energy at the step's start (after detection) and end: the work the contacts take from the
 //!   blocks beyond what their springs store and friction dissipates. Zero for a spring closed
 //!   over the whole step; where a point closes within a step the scheme applies its end force
 //!   over the whole approach and dissipates ½ k_n |g₁| g₀ (g₀ > 0 the gap at the start) — the
 //!   discrete impact's loss, like the numerical damping of a stiff mode;
-//! * balance error E = (K₀ + S₀ + W) − (K + U + S + D_f + D_n + D_c), with S₀ the springs' energy
+//! * balance error E = (K₀ + S₀ + W) − (K + U + S + D_f + D_d + D_n + D_c), with S₀ the springs' energy
 //!   at the start of the first step (loaded by the initial equilibrium or by in-situ preloads).
 //!
 //! The error collects what the other accounts do not explain: energy that appears between
@@ -44,6 +46,9 @@ pub struct Energy {
     pub contact: f64,
     /// Energy dissipated by friction since the start.
     pub friction: f64,
+    /// Energy dissipated by the contact dashpots since the start (`contact.damping_ratio`).
+    #[serde(default)]
+    pub damping: f64,
     /// Energy dissipated by the time integration scheme since the start.
     pub numerical: f64,
     /// Energy the contacts took from the blocks beyond their springs and friction since the
@@ -68,6 +73,7 @@ impl Energy {
         self.elastic += s.elastic;
         self.external_work += s.external_work;
         self.friction += s.friction;
+        self.damping += s.damping;
         self.numerical += s.numerical;
         self.contact_events += s.contact_events;
     }
@@ -75,7 +81,13 @@ impl Energy {
     /// Balance error: energy put in minus energy accounted for [J].
     pub fn error(&self) -> f64 {
         self.initial + self.external_work
-            - (self.kinetic + self.elastic + self.contact + self.friction + self.numerical + self.contact_events)
+            - (self.kinetic
+                + self.elastic
+                + self.contact
+                + self.friction
+                + self.damping
+                + self.numerical
+                + self.contact_events)
     }
 
     /// The largest account in magnitude (the scale of the balance error) [J].
@@ -86,6 +98,7 @@ impl Energy {
             self.external_work,
             self.contact,
             self.friction,
+            self.damping,
             self.numerical,
             self.contact_events,
             self.initial,

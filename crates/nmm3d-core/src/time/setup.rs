@@ -49,5 +49,6 @@ pub(super) fn contact_params(sys: &System) -> ContactParams {
         touching: k.touching * tolerance,
         min_share: k.min_area_share,
         merge: k.merge_ratio * tolerance,
+        damping_ratio: k.damping_ratio,
     }
 }

@@ -236,6 +236,13 @@ impl Stepper {
             if let (Some(h), Some(saved), true) = (contact.as_mut(), start_records.as_ref(), trials > 1) {
                 h.records = saved.clone();
             }
+            // The dashpots act on velocities: only in a dynamic step, with this trial's Δt.
+            if let Some(h) = contact.as_mut() {
+                match dynamic {
+                    true => h.prepare_damping(sys, state, (self.newmark.beta, self.newmark.gamma), dt),
+                    false => h.clear_damping(),
+                }
+            }
             // The loads at the end of the step (implicit): a moving base's force just before
             // t + Δt (a pulse ending there still acts over the step).
             let base_end = shaking(sys, run).then(|| sys.base_force(seismic.acceleration_before(state.time + dt)));
@@ -309,13 +316,13 @@ impl Stepper {
                     }
                     self.accept(sys, (state, run), &d, dt);
                     self.update_bolts(sys, state);
-                    let (contacts, max_penetration, friction, springs) = match contact.as_mut() {
+                    let (contacts, max_penetration, friction, springs, damping) = match contact.as_mut() {
                         Some(h) => {
                             let friction = h.accept();
                             h.travel.add(sys, &d);
-                            (h.records.len(), h.max_penetration(), friction, h.spring_energy())
+                            (h.records.len(), h.max_penetration(), friction, h.spring_energy(), h.damping_dissipation())
                         }
-                        None => (0, 0.0, 0.0, 0.0),
+                        None => (0, 0.0, 0.0, 0.0, 0.0),
                     };
                     let mut contact_end = vec![Vec3::zeros(); d.len()];
                     if let Some(h) = contact.as_ref() {
@@ -345,6 +352,7 @@ impl Stepper {
                             m_a0,
                             kinetic0,
                             friction,
+                            damping,
                             springs: (springs0, springs),
                             contact_work,
                         },

@@ -325,6 +325,10 @@ pub struct ContactSpec {
     /// Facet-overlay corners closer than this × the support tolerance are one point [-]
     /// (addition).
     pub merge_ratio: f64,
+    /// Contact dashpots: fraction of critical damping of each block pair's normal mode on its
+    /// closed points (0: none; the springs then lose energy only by friction and by the time
+    /// scheme) [-] (addition).
+    pub damping_ratio: f64,
 }
 
 impl Default for ContactSpec {
@@ -348,6 +352,7 @@ impl Default for ContactSpec {
             touching: 1e-3,
             min_area_share: 0.05,
             merge_ratio: 10.0,
+            damping_ratio: 0.0,
         }
     }
 }

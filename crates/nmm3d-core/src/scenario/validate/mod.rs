@@ -69,6 +69,9 @@ pub fn problems(s: &Scenario) -> Vec<Problem> {
     ] {
         c.positive(&format!("contact.{key}"), v);
     }
+    if !(k.damping_ratio >= 0.0 && k.damping_ratio.is_finite()) {
+        c.fail("contact.damping_ratio", format!("must be a finite number ≥ 0, got {}", k.damping_ratio));
+    }
     if !(k.penalty_raise > 1.0 && k.penalty_raise.is_finite()) {
         c.fail("contact.penalty_raise", format!("must be a finite number > 1, got {}", k.penalty_raise));
     }
