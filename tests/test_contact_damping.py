@@ -13,6 +13,7 @@ import pytest
 
 import nmm3d
 from conftest import EXAMPLES
+from nmm3d.result import read_columns
 
 #: The block on a joint: a 1 m cube (2500 kg) on a fixed slab, joint k_n = k_s = 10 MPa/m (K = 1e7
 #: N/m on its 1 m² base), g = 10 m/s², released touching and at rest.
@@ -97,3 +98,19 @@ def test_the_example_states_the_closed_form():
 def test_a_wrong_damping_ratio_is_named(value):
     with pytest.raises(nmm3d.ScenarioError, match="contact.damping_ratio"):
         nmm3d.load(EXAMPLES / "damped_drop.toml", [f"contact.damping_ratio={value}"])
+
+
+def test_damped_dominos_never_hold_more_energy_than_gravity_gave_them(tmp_path):
+    # The DDA scheme on "auto" penalties, impacts and toppling: at no step may the blocks'
+    # kinetic, elastic and spring energy exceed what the push and gravity gave them (no energy
+    # created by the dashpots), and the balance closes.
+    r = nmm3d.load(EXAMPLES / "dominos.toml", ["analysis.duration=0.5", "contact.damping_ratio=0.3"]).run(out=tmp_path)
+    e = r.summary["energy"]
+    assert e["max_error_ratio"] <= 0.01 and e["damping_dissipation"] > 0
+    d = read_columns(r.directory / "diagnostics.csv")
+    held = d["kinetic_energy"] + d["elastic_energy"] + d["contact_energy"]
+    lost = (d["friction_dissipation"] + d["damping_dissipation"] + d["numerical_dissipation"]
+            + d["contact_event_dissipation"])
+    initial = float((d["energy_error"] + held + lost - d["external_work"])[0])  # K₀ + S₀: the push
+    given = initial + d["external_work"]
+    assert (held <= 1.01 * given).all(), float((held - given).max())

@@ -76,7 +76,7 @@ impl ContactHistory {
                     n * n.dot(&r.preload) + spring - (r.strength.tan_phi * normal + r.strength.cohesion) * r.slip
                 }
             };
-            // The dashpot's force at the last step's end (moved into `start` by the trial).
+            // The dashpot's force as the last step ended (the point's, if it is the same one).
             r.scatter(sys, &(force + r.damper.end), f);
         }
     }
@@ -103,7 +103,7 @@ impl ContactHistory {
 impl ContactRecord {
     /// Add `force` on A (and its opposite on B) to the per-cover forces `f` through the
     /// material points' weights.
-    fn scatter(&self, sys: &System, force: &Vec3, f: &mut [Vec3]) {
+    pub(super) fn scatter(&self, sys: &System, force: &Vec3, f: &mut [Vec3]) {
         for (mp, sign) in [(&self.a, 1.0), (&self.b, -1.0)] {
             for (&c, w) in sys.covers.elements[mp.element].covers.iter().zip(&mp.weights) {
                 f[c] += sign * w * force;

@@ -14,6 +14,12 @@
 //! velocity at the step's end, which Newmark's rule makes linear in the increment:
 //! v₁ = γ/(βΔt) rel + (1 − γ/β) v₀ + Δt (1 − γ/(2β)) a₀ (v₀, a₀ of A relative to B at the point).
 //! It is left out of the opening test and of the Coulomb limit (both follow the springs).
+//!
+//! Where the step does not resolve the bounce (ω Δt > 2, ω = √(K/m): stiff penalties) c is
+//! capped at c K = 2ξ m (2/Δt): the scheme itself removes a mode it does not resolve (DDA's
+//! is L-stable), and an uncapped dashpot there pushes far harder than it takes to stop the pair
+//! in one step (on the "auto" dominos over 1.5 s its accounted work was 22.8 kJ uncapped, 5.7 kJ
+//! capped, for 0.23 kJ of gravity's work; `docs/theory/energy.md` on that split).
 
 use std::collections::HashMap;
 
@@ -59,18 +65,14 @@ impl ContactHistory {
         if xi <= 0.0 {
             return;
         }
-        let factors = pair_factors(sys, &self.records, xi);
+        let factors = pair_factors(sys, &self.records, xi, dt);
         let (g_b, rate) = (gamma / beta, gamma / (beta * dt));
         let a_factor = dt * (1.0 - 0.5 * g_b);
-        let at = |mp: &MaterialPoint, x: &[Vec3]| -> Vec3 {
-            sys.covers.elements[mp.element].covers.iter().zip(&mp.weights).map(|(&c, w)| *w * x[c]).sum()
-        };
         for r in &mut self.records {
-            let v0 = at(&r.a, &state.v) - at(&r.b, &state.v);
-            let a0 = if a_factor != 0.0 { at(&r.a, &state.a) - at(&r.b, &state.a) } else { Vec3::zeros() };
+            let v0 = relative(sys, r, &state.v);
+            let a0 = if a_factor != 0.0 { relative(sys, r, &state.a) } else { Vec3::zeros() };
             let c = factors.get(&r.blocks).copied().unwrap_or(0.0);
-            r.damper =
-                Damper { c, rate, lag: (1.0 - g_b) * v0 + a_factor * a0, start: r.damper.end, end: Vec3::zeros() };
+            r.damper = Damper { c, rate, lag: (1.0 - g_b) * v0 + a_factor * a0, end: Vec3::zeros() };
         }
     }
 
@@ -79,16 +81,53 @@ impl ContactHistory {
         self.records.iter_mut().for_each(|r| r.damper = Damper::default());
     }
 
-    /// Energy the dashpots took from the blocks over the accepted step, by the scheme's rule:
-    /// −Σ ½ (f₀ + f₁) · rel [J].
-    pub fn damping_dissipation(&self) -> f64 {
-        self.records.iter().map(|r| -0.5 * (r.damper.start + r.damper.end).dot(&r.rel)).sum()
+    /// Close the accepted step's dashpots at its final increment `d` (per cover): the step's
+    /// end equilibrium may have moved it after the last open–close solve, and the dashpots,
+    /// linear in it, acted at the final one. Each point's end force (and its share of
+    /// `applied`) is set there.
+    pub fn finish_damping(&mut self, sys: &System, d: &[Vec3]) {
+        for r in self.records.iter_mut().filter(|r| r.damper.c > 0.0) {
+            let end = r.damper_force(&relative(sys, r, d));
+            r.applied += end - r.damper.end;
+            r.damper.end = end;
+        }
+    }
+
+    /// Energy the dashpots took from the blocks over the accepted step of increment `d`, by the
+    /// scheme's rule, −Σ ½ d · (f₀ + f₁) per cover, with `start` their forces at the step's start
+    /// (`damper_forces` then) and f₁ at its end [J]: the dashpot part of the contacts' work.
+    pub fn damping_work(&self, sys: &System, d: &[Vec3], start: &[Vec3]) -> f64 {
+        let end = self.damper_forces(sys).unwrap_or_default();
+        let at = |f: &[Vec3], c: usize| f.get(c).copied().unwrap_or_default();
+        d.iter().enumerate().map(|(c, d)| -0.5 * d.dot(&(at(start, c) + at(&end, c)))).sum()
+    }
+
+    /// The dashpots' forces as the last solve (or `finish_damping`) left them, per cover [N];
+    /// `None` without dashpots. Taken at a step's start, before a detection replaces the
+    /// points, they are the dashpot part of the forces the start's acceleration carries.
+    pub fn damper_forces(&self, sys: &System) -> Option<Vec<Vec3>> {
+        let damped: Vec<&ContactRecord> = self.records.iter().filter(|r| r.damper.end != Vec3::zeros()).collect();
+        if damped.is_empty() && self.params.damping_ratio <= 0.0 {
+            return None;
+        }
+        let mut f = vec![Vec3::zeros(); sys.covers.covers.len()];
+        damped.iter().for_each(|r| r.scatter(sys, &r.damper.end, &mut f));
+        Some(f)
     }
 }
 
-/// c = 2ξ √(m/K) per block pair: m the reduced mass (a fixed block's is infinite), K the normal
-/// penalties of the pair's closed points (all of its points when none is closed yet).
-fn pair_factors(sys: &System, records: &[ContactRecord], xi: f64) -> HashMap<(usize, usize), f64> {
+/// A per-cover field `x` at the point on A minus at the point on B.
+fn relative(sys: &System, r: &ContactRecord, x: &[Vec3]) -> Vec3 {
+    let at = |mp: &MaterialPoint| -> Vec3 {
+        sys.covers.elements[mp.element].covers.iter().zip(&mp.weights).map(|(&c, w)| *w * x[c]).sum()
+    };
+    at(&r.a) - at(&r.b)
+}
+
+/// c = 2ξ m min(ω, 2/Δt) / K per block pair (2ξ √(m/K) where the step resolves the bounce): m
+/// the reduced mass (a fixed block's is infinite), K the normal penalties of the pair's closed
+/// points (all of its points when none is closed yet), ω = √(K/m).
+fn pair_factors(sys: &System, records: &[ContactRecord], xi: f64, dt: f64) -> HashMap<(usize, usize), f64> {
     let mass = block_masses(sys);
     let mut stiffness: HashMap<(usize, usize), (f64, f64)> = HashMap::new();
     for r in records {
@@ -103,7 +142,9 @@ fn pair_factors(sys: &System, records: &[ContactRecord], xi: f64) -> HashMap<(us
         .map(|(pair, (closed, all))| {
             let k = if closed > 0.0 { closed } else { all };
             let m = reduced(mass[pair.0], mass[pair.1]);
-            (pair, if k > 0.0 && m.is_finite() { 2.0 * xi * (m / k).sqrt() } else { 0.0 })
+            // c K = 2ξ m ω, with ω = √(K/m) capped at 2/Δt (see the module documentation).
+            let omega = (k / m).sqrt().min(2.0 / dt);
+            (pair, if k > 0.0 && m.is_finite() { 2.0 * xi * m * omega / k } else { 0.0 })
         })
         .collect()
 }

@@ -101,15 +101,14 @@ pub struct ContactRecord {
 /// A point's dashpot in the current step (`super::damping`).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 pub struct Damper {
-    /// Stiffness-proportional factor of the pair, c = 2ξ √(m/K) [s] (0: no damping).
+    /// Stiffness-proportional factor of the pair, c = 2ξ √(m/K) where the step resolves the
+    /// bounce [s] (0: no damping).
     pub c: f64,
     /// γ/(βΔt): the end velocity per unit increment [1/s].
     pub rate: f64,
     /// The end velocity of A relative to B at zero increment, (1 − γ/β) v₀ + Δt (1 − γ/(2β)) a₀
     /// [m/s].
     pub lag: Vec3,
-    /// Damper force on A at the start of the step (the last step's end) [N].
-    pub start: Vec3,
     /// Damper force on A the last solve applied [N].
     pub end: Vec3,
 }

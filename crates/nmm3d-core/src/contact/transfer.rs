@@ -34,8 +34,6 @@ pub(super) fn inherit(
             r.preload = old.preload;
             r.strength = Strength { tan_phi, ..old.strength };
             r.force = old.force;
-            // The dashpot's force at the last step's end, which the next step starts from.
-            r.damper.end = old.damper.end;
             if r.state == ContactState::Slide {
                 // Linearise the friction about the last step's slip, not about rest.
                 r.rel = old.rel;

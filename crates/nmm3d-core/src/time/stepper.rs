@@ -174,6 +174,8 @@ impl Stepper {
     /// One accepted step (possibly after cuts). `dt_cap` bounds the step (output times, end).
     pub fn step(&mut self, sys: &System, whole: &mut State, dt_cap: f64) -> Result<StepReport> {
         let State { motion: state, contact, stepper: run } = whole;
+        // The dashpots' part of the forces the start carries, before a detection replaces points.
+        let damper_start = contact.as_ref().and_then(|h| h.damper_forces(sys));
         // Contacts first: a new contact may change the pattern the tangent is assembled into.
         if let (Some(c), Some(h)) = (self.contacts.as_mut(), contact.as_mut()) {
             // Since the last detection no point has moved by the contact tolerance, so no pair
@@ -320,7 +322,9 @@ impl Stepper {
                         Some(h) => {
                             let friction = h.accept();
                             h.travel.add(sys, &d);
-                            (h.records.len(), h.max_penetration(), friction, h.spring_energy(), h.damping_dissipation())
+                            h.finish_damping(sys, &d);
+                            let damping = damper_start.as_ref().map_or(0.0, |f0| h.damping_work(sys, &d, f0));
+                            (h.records.len(), h.max_penetration(), friction, h.spring_energy(), damping)
                         }
                         None => (0, 0.0, 0.0, 0.0, 0.0),
                     };
