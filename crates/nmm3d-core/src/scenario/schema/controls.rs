@@ -306,8 +306,8 @@ pub struct ContactSpec {
     /// Overlap, as a fraction of the support tolerance, at which a point that opened during a
     /// step's open–close iterations closes again [-] (addition).
     pub reclose_depth: f64,
-    /// Closings of a point within one step's open–close iterations after which it stays open
-    /// (addition).
+    /// Closings of a point within one step's open–close iterations after which it stays open,
+    /// unless it overlaps beyond the support tolerance (addition).
     pub max_reclose: u32,
     /// Rounds per step of lagged verification: detection on a trial's end configuration adds
     /// the points that arrived during the step unseen, and the step is solved again (0: off)
