@@ -26,7 +26,6 @@ use std::collections::HashMap;
 use nmm3d_geom::{Mat3, Vec3};
 
 use super::history::ContactHistory;
-use super::point::MaterialPoint;
 use super::record::{ContactRecord, ContactState, Damper};
 use crate::state::Motion;
 use crate::system::System;
@@ -106,22 +105,18 @@ impl ContactHistory {
     /// `None` without dashpots. Taken at a step's start, before a detection replaces the
     /// points, they are the dashpot part of the forces the start's acceleration carries.
     pub fn damper_forces(&self, sys: &System) -> Option<Vec<Vec3>> {
-        let damped: Vec<&ContactRecord> = self.records.iter().filter(|r| r.damper.end != Vec3::zeros()).collect();
-        if damped.is_empty() && self.params.damping_ratio <= 0.0 {
+        if self.params.damping_ratio <= 0.0 {
             return None;
         }
         let mut f = vec![Vec3::zeros(); sys.covers.covers.len()];
-        damped.iter().for_each(|r| r.scatter(sys, &r.damper.end, &mut f));
+        self.records.iter().for_each(|r| r.scatter(sys, &r.damper.end, &mut f));
         Some(f)
     }
 }
 
 /// A per-cover field `x` at the point on A minus at the point on B.
 fn relative(sys: &System, r: &ContactRecord, x: &[Vec3]) -> Vec3 {
-    let at = |mp: &MaterialPoint| -> Vec3 {
-        sys.covers.elements[mp.element].covers.iter().zip(&mp.weights).map(|(&c, w)| *w * x[c]).sum()
-    };
-    at(&r.a) - at(&r.b)
+    r.a.of(sys, x) - r.b.of(sys, x)
 }
 
 /// c = 2ξ m min(ω, 2/Δt) / K per block pair (2ξ √(m/K) where the step resolves the bounce): m

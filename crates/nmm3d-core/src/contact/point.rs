@@ -30,9 +30,14 @@ impl MaterialPoint {
         Self { element, weights: weights_at(&sys.covers, &sys.covers.elements[element], &x), reference: x }
     }
 
+    /// A per-cover field (displacement, increment, velocity, …) interpolated at the point.
+    pub fn of(&self, sys: &System, field: &[Vec3]) -> Vec3 {
+        sys.covers.elements[self.element].covers.iter().zip(&self.weights).map(|(&c, w)| *w * field[c]).sum()
+    }
+
     /// Current displacement [m].
     pub fn displacement(&self, sys: &System, state: &Motion) -> Vec3 {
-        sys.covers.elements[self.element].covers.iter().zip(&self.weights).map(|(&c, w)| *w * state.u[c]).sum()
+        self.of(sys, &state.u)
     }
 
     /// Current position [m].

@@ -5,7 +5,6 @@
 use nmm3d_geom::Vec3;
 
 use super::history::ContactHistory;
-use super::point::MaterialPoint;
 use super::record::{tangential, ContactRecord, ContactState};
 use crate::system::System;
 
@@ -27,12 +26,9 @@ impl ContactHistory {
             // The spring this solve used, linearised about the last iterate.
             let (block, constant) = r.spring();
             let (dashpot, pushed) = r.dashpot();
-            let inc = |mp: &MaterialPoint| -> Vec3 {
-                sys.covers.elements[mp.element].covers.iter().zip(&mp.weights).map(|(&c, w)| *w * d[c]).sum()
-            };
             // The friction this solve used (linearised about the last iterate).
             let used = (r.state == ContactState::Slide).then(|| r.friction().0);
-            r.rel = inc(&r.a) - inc(&r.b);
+            r.rel = r.a.of(sys, d) - r.b.of(sys, d);
             r.gap = r.gap0 + r.normal.dot(&r.rel);
             let (kn, ks) = (r.kn, r.ks);
             let n = r.normal;

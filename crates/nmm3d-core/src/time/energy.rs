@@ -8,8 +8,9 @@
 //!   the start plus the tangent's increment: exact for linear elasticity);
 //! * contact spring energy S = Σ ½ k_n g² + ½ k_s |s|² over closed points (current);
 //! * friction dissipation D_f += Σ L |Δslip| over sliding points (limit × plastic slip);
-//! * damping D_d += −Σ ½ (f_d0 + f_d1) · Δrel over closed points (the contact dashpots'
-//!   forces at the step's start and end, `crate::contact::damping`);
+//! * damping D_d += −½ d · (f_d0 + f_d1), with f_d0, f_d1 the contact dashpots' forces on the
+//!   covers at the step's start (before a detection replaces points) and end — their part of
+//!   the contacts' work below (`crate::contact::damping`);
 //! * numerical dissipation D_n += ½ d · M (a₀ + a₁) − ΔK, with a₀, a₁ the scheme's accelerations
 //!   at the start (the last step's end; at the first step the unbalanced force M a₀) and end:
 //!   the work of the mean inertial force beyond the kinetic energy gained — zero for the
