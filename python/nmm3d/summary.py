@@ -166,6 +166,10 @@ class RunSummary:
     #: the stages of a staged analysis; the counters and timings above are the last stage's
     #: model's, ``steps`` and ``time`` the whole run's
     stages: list[StageSummary] = dataclasses.field(default_factory=list)
+    #: "direct" (sparse Cholesky) or "amg" (multigrid-preconditioned CG)
+    linear_solver: str = "direct"
+    #: PCG iterations of the multigrid solver (0 with the direct one)
+    multigrid_iterations: int = 0
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> RunSummary:

@@ -71,6 +71,10 @@ pub struct RunSummary {
     pub krylov_iterations: u64,
     /// CG attempts that fell back to a factorisation.
     pub krylov_failures: u64,
+    /// The linear solver used: "direct" (sparse Cholesky) or "amg" (multigrid PCG).
+    pub linear_solver: String,
+    /// PCG iterations of the multigrid solver (0 with the direct one).
+    pub multigrid_iterations: u64,
     /// Out-of-balance force over applied force at the last step (`null` before any step).
     pub unbalanced_force_ratio: Option<f64>,
     /// Energy accounts of a dynamic run; `null` for a static one.

@@ -1,12 +1,15 @@
 //! Sparse symmetric positive-definite solves behind one interface, so other backends (an
 //! iterative PCG, PETSc for one huge model) can be added without touching the stepper.
 
+mod amg;
 mod faer_cholesky;
 pub mod ordering;
 pub mod pcg;
 mod reuse;
 
+pub use amg::{AmgParams, AmgSolver};
 pub use faer_cholesky::FaerCholesky;
+use pcg::PcgOutcome;
 pub use reuse::{FactorReuse, FactorSnapshot, FactorSource, ReusingSolver, SolveCounts, Solved};
 
 use crate::assembly::SparsityPattern;
@@ -37,4 +40,18 @@ pub trait LinearSolver: Send {
     fn factor_nonzeros(&self) -> usize;
     /// Seconds spent in symbolic analysis and in numeric factorisation so far.
     fn timings(&self) -> (f64, f64);
+    /// Solve a matrix near the last factorised one by this solver's own iterations on that
+    /// factorisation (an iterative solver: its preconditioner serves nearby matrices); `None`:
+    /// the caller's PCG with [`LinearSolver::solve`] as the preconditioner does it.
+    fn solve_nearby(&mut self, _pattern: &SparsityPattern, _values: &[f64], _rhs: &mut [f64]) -> Option<PcgOutcome> {
+        None
+    }
+    /// "direct" or "amg" (the summary's `linear_solver`).
+    fn name(&self) -> &'static str {
+        "direct"
+    }
+    /// Iterations the solver made inside its own solves so far (an iterative solver's).
+    fn iterations(&self) -> u64 {
+        0
+    }
 }

@@ -25,6 +25,19 @@ pub fn pcg(
     values: &[f64],
     b: &[f64],
     x: &mut [f64],
+    precondition: impl FnMut(&mut [f64]),
+    tolerance: f64,
+    max_iterations: u32,
+) -> PcgOutcome {
+    let times = |v: &[f64], out: &mut [f64]| pattern.symmetric_times(values, v, out);
+    pcg_with(times, b, x, precondition, tolerance, max_iterations)
+}
+
+/// [`pcg`] with the matrix given as its product `times(v, out)`: out = A v.
+pub fn pcg_with(
+    mut times: impl FnMut(&[f64], &mut [f64]),
+    b: &[f64],
+    x: &mut [f64],
     mut precondition: impl FnMut(&mut [f64]),
     tolerance: f64,
     max_iterations: u32,
@@ -42,7 +55,7 @@ pub fn pcg(
         return PcgOutcome { iterations: 0, converged: rz == 0.0 };
     }
     for it in 1..=max_iterations {
-        pattern.symmetric_times(values, &p, &mut ap);
+        times(&p, &mut ap);
         let curvature = dot(&p, &ap);
         if curvature <= 0.0 || !curvature.is_finite() {
             return PcgOutcome { iterations: it, converged: false };

@@ -119,6 +119,16 @@ impl ReusingSolver {
             None => false,
         };
         if near && !self.renew {
+            if let Some(out) = self.direct.solve_nearby(pattern, values, rhs) {
+                if out.converged {
+                    self.counts.krylov_solves += 1;
+                    return Ok(Solved::Krylov(out.iterations));
+                }
+                self.counts.krylov_failures += 1;
+                self.factorize(pattern, values, nearby)?;
+                self.direct.solve(rhs);
+                return Ok(Solved::Factorized);
+            }
             let mut x = vec![0.0; rhs.len()];
             let direct = &mut self.direct;
             let (tol, max) = (self.reuse.tolerance, self.reuse.max_iterations);
@@ -219,6 +229,16 @@ impl ReusingSolver {
     /// Seconds spent in symbolic analysis and in numeric factorisation so far.
     pub fn timings(&self) -> (f64, f64) {
         self.direct.timings()
+    }
+
+    /// "direct" or "amg".
+    pub fn name(&self) -> &'static str {
+        self.direct.name()
+    }
+
+    /// Iterations the linear solver made inside its own solves (multigrid PCG) so far.
+    pub fn inner_iterations(&self) -> u64 {
+        self.direct.iterations()
     }
 }
 

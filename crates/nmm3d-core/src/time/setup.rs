@@ -2,11 +2,13 @@
 //! reuse, and the contact penalties and tolerances.
 
 use crate::contact::ContactParams;
-use crate::scenario::Stiffness;
-use crate::solver::{FactorReuse, FaerCholesky, ReusingSolver};
+use crate::assembly::dof_map::CoverDofs;
+use crate::scenario::{SolverChoice, Stiffness};
+use crate::solver::{AmgParams, AmgSolver, FactorReuse, FaerCholesky, LinearSolver, ReusingSolver};
 use crate::system::System;
 
-/// The direct solver (faer's Cholesky) with factor reuse as `[analysis]` asks.
+/// The linear solver `[analysis]` asks for (faer's Cholesky, or multigrid PCG) with factor
+/// reuse.
 pub(super) fn solver(sys: &System) -> ReusingSolver {
     let a = &sys.scenario.analysis;
     let reuse = FactorReuse {
@@ -15,7 +17,28 @@ pub(super) fn solver(sys: &System) -> ReusingSolver {
         max_iterations: a.krylov_max_iterations,
         closeness: a.factor_reuse_closeness,
     };
-    ReusingSolver::new(Box::new(FaerCholesky::new(a.ordering)), reuse)
+    ReusingSolver::new(linear_solver(sys), reuse)
+}
+
+/// Multigrid when asked, or with "auto" for one block (no contact springs, which multigrid
+/// handles poorly) of at least `amg_min_equations` equations, where a factor outgrows its use.
+fn linear_solver(sys: &System) -> Box<dyn LinearSolver> {
+    let a = &sys.scenario.analysis;
+    let amg = match a.linear_solver {
+        SolverChoice::Direct => false,
+        SolverChoice::Amg => true,
+        SolverChoice::Auto => sys.geometry.blocks.len() == 1 && sys.dofs.n_eq as u64 >= a.amg_min_equations,
+    };
+    if !amg {
+        return Box::new(FaerCholesky::new(a.ordering));
+    }
+    let mut positions = vec![[0.0; 3]; sys.dofs.n_eq / 3];
+    for (kind, cover) in sys.dofs.kind.iter().zip(&sys.covers.covers) {
+        if let CoverDofs::Free(e) = kind {
+            positions[*e as usize / 3] = [cover.position.x, cover.position.y, cover.position.z];
+        }
+    }
+    Box::new(AmgSolver::new(positions, AmgParams { tolerance: a.amg_tolerance, ..AmgParams::default() }))
 }
 
 /// Contact penalties and tolerances from the scenario's `[contact]`, read once ("auto":

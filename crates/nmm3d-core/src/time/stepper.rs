@@ -142,6 +142,11 @@ impl Stepper {
         self.solver.factor_nonzeros()
     }
 
+    /// The linear solver (what it did so far).
+    pub fn solver(&self) -> &ReusingSolver {
+        &self.solver
+    }
+
     /// Factorisations and PCG solves so far.
     pub fn solve_counts(&self) -> SolveCounts {
         self.solver.counts

@@ -67,6 +67,14 @@ pub struct Analysis {
     pub divergence_ratio: f64,
     /// Fill-reducing ordering of the sparse factorisation.
     pub ordering: Ordering,
+    /// Linear solver: "auto" (multigrid-preconditioned CG for a large single block, else the
+    /// direct Cholesky), "direct" or "amg" (addition).
+    pub linear_solver: SolverChoice,
+    /// With "auto", a single block with at least this many equations is solved by multigrid
+    /// PCG [-] (addition).
+    pub amg_min_equations: u64,
+    /// Relative preconditioned residual at which the multigrid PCG has converged [-] (addition).
+    pub amg_tolerance: f64,
     /// Open–close iterations per step before the step is cut.
     pub max_open_close: u32,
     /// Factor applied to Δt when the open–close iteration does not settle [-].
@@ -135,6 +143,19 @@ pub enum Ordering {
     NestedDissection,
 }
 
+/// Which linear solver solves the systems.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SolverChoice {
+    /// Multigrid PCG for one block of at least `amg_min_equations` equations, else direct.
+    #[default]
+    Auto,
+    /// Sparse Cholesky (faer), with factor reuse.
+    Direct,
+    /// Conjugate gradients preconditioned by smoothed-aggregation multigrid.
+    Amg,
+}
+
 /// How strain is measured in each manifold element.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -169,6 +190,9 @@ impl Default for Analysis {
             divergence_ratio: 1e3,
             strain_measure: StrainMeasure::Corotational,
             ordering: Ordering::Auto,
+            linear_solver: SolverChoice::Auto,
+            amg_min_equations: 150_000,
+            amg_tolerance: 1e-8,
             max_open_close: 12,
             open_close_cut: 0.3,
             open_close_tolerance: 0.0,

@@ -157,8 +157,10 @@ fn analysis(c: &mut Checker, a: &Analysis) {
     if !(a.checkpoint_interval >= 0.0 && a.checkpoint_interval.is_finite()) {
         c.fail("analysis.checkpoint_interval", format!("must be a finite number >= 0, got {}", a.checkpoint_interval));
     }
-    if !(a.krylov_tolerance > 0.0 && a.krylov_tolerance < 1.0) {
-        c.fail("analysis.krylov_tolerance", format!("must lie in (0, 1), got {}", a.krylov_tolerance));
+    for (key, tolerance) in [("analysis.krylov_tolerance", a.krylov_tolerance), ("analysis.amg_tolerance", a.amg_tolerance)] {
+        if !(tolerance > 0.0 && tolerance < 1.0) {
+            c.fail(key, format!("must lie in (0, 1), got {tolerance}"));
+        }
     }
     if !(a.max_memory >= 0.0 && a.max_memory.is_finite()) {
         c.fail(

@@ -1,0 +1,136 @@
+//! Aggregation of a level's nodes (groups of `block` equations: a cover's three displacements
+//! on the finest level, an aggregate's rigid-body modes below): the standard three-pass
+//! algorithm of smoothed aggregation (Vaněk, Mandel & Brezina, *Computing* 56, 1996, §4;
+//! pyamg's `standard_aggregation`) on the graph of strong couplings.
+
+use super::csr::Csr;
+
+/// The aggregate of every node, and how many aggregates there are.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Aggregates {
+    /// Aggregate of each node.
+    pub of: Vec<u32>,
+    /// Number of aggregates.
+    pub count: usize,
+}
+
+impl Aggregates {
+    /// The nodes of each aggregate, in increasing order.
+    pub fn members(&self) -> Vec<Vec<u32>> {
+        let mut m = vec![Vec::new(); self.count];
+        for (node, &a) in self.of.iter().enumerate() {
+            m[a as usize].push(node as u32);
+        }
+        m
+    }
+}
+
+/// Strong neighbours of each node (itself excluded): node j is strongly coupled to node i when
+/// ‖A_ij‖_F ≥ θ √(‖A_ii‖_F ‖A_jj‖_F) (the block form of the symmetric strength measure).
+pub fn strong_graph(a: &Csr, block: usize, theta: f64) -> Vec<Vec<u32>> {
+    let nodes = a.rows / block;
+    let mut norms: Vec<Vec<(u32, f64)>> = vec![Vec::new(); nodes];
+    for (i, row) in norms.iter_mut().enumerate() {
+        for r in block * i..block * (i + 1) {
+            let (idx, val) = a.row(r);
+            for (&j, &v) in idx.iter().zip(val) {
+                let node = j / block as u32;
+                match row.last_mut() {
+                    Some((n, s)) if *n == node => *s += v * v,
+                    _ => match row.iter_mut().find(|(n, _)| *n == node) {
+                        Some((_, s)) => *s += v * v,
+                        None => row.push((node, v * v)),
+                    },
+                }
+            }
+        }
+    }
+    let diag: Vec<f64> =
+        norms.iter().enumerate().map(|(i, row)| row.iter().find(|(n, _)| *n as usize == i).map_or(0.0, |e| e.1.sqrt())).collect();
+    norms
+        .iter()
+        .enumerate()
+        .map(|(i, row)| {
+            row.iter()
+                .filter(|&&(j, s)| j as usize != i && s > 0.0 && s.sqrt() >= theta * (diag[i] * diag[j as usize]).sqrt())
+                .map(|&(j, _)| j)
+                .collect()
+        })
+        .collect()
+}
+
+/// Standard aggregation: (1) a node whose neighbours are all free founds an aggregate with
+/// them; (2) a free node joins a neighbour's aggregate of the first pass; (3) the rest found
+/// aggregates with their free neighbours.
+pub fn aggregate(graph: &[Vec<u32>]) -> Aggregates {
+    const FREE: u32 = u32::MAX;
+    let mut of = vec![FREE; graph.len()];
+    let mut count = 0u32;
+    for i in 0..graph.len() {
+        if of[i] == FREE && graph[i].iter().all(|&j| of[j as usize] == FREE) {
+            of[i] = count;
+            graph[i].iter().for_each(|&j| of[j as usize] = count);
+            count += 1;
+        }
+    }
+    let first = of.clone();
+    for i in 0..graph.len() {
+        if of[i] == FREE {
+            if let Some(&j) = graph[i].iter().find(|&&j| first[j as usize] != FREE) {
+                of[i] = first[j as usize];
+            }
+        }
+    }
+    for i in 0..graph.len() {
+        if of[i] == FREE {
+            of[i] = count;
+            for &j in &graph[i] {
+                if of[j as usize] == FREE {
+                    of[j as usize] = count;
+                }
+            }
+            count += 1;
+        }
+    }
+    Aggregates { of, count: count as usize }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The path 0 – 1 – … – (n − 1).
+    fn path(n: usize) -> Vec<Vec<u32>> {
+        (0..n).map(|i| [i.wrapping_sub(1), i + 1].into_iter().filter(|&j| j < n).map(|j| j as u32).collect()).collect()
+    }
+
+    #[test]
+    fn every_node_is_in_one_aggregate_of_its_neighbourhood() {
+        for n in [1, 2, 5, 10, 31] {
+            let g = path(n);
+            let agg = aggregate(&g);
+            assert!(agg.of.iter().all(|&a| (a as usize) < agg.count), "n = {n}");
+            for m in agg.members() {
+                assert!(!m.is_empty());
+                // An aggregate of a path is a connected run of at most three nodes.
+                assert!(m.len() <= 3 && m.windows(2).all(|w| w[1] == w[0] + 1), "{m:?}");
+            }
+        }
+        assert_eq!(aggregate(&path(9)).count, 3);
+    }
+
+    #[test]
+    fn weak_couplings_do_not_join_nodes() {
+        // Two 2 × 2 blocks (block = 2) coupled by an entry far below their diagonals.
+        let a = Csr {
+            rows: 4,
+            cols: 4,
+            ptr: vec![0, 2, 4, 6, 8],
+            idx: vec![0, 2, 1, 3, 0, 2, 1, 3],
+            val: vec![1.0, 1e-3, 1.0, 0.0, 1e-3, 1.0, 0.0, 1.0],
+        };
+        assert_eq!(strong_graph(&a, 2, 0.0), vec![vec![1], vec![0]]);
+        assert_eq!(strong_graph(&a, 2, 0.01), vec![Vec::<u32>::new(), vec![]]);
+        assert_eq!(aggregate(&strong_graph(&a, 2, 0.01)).count, 2);
+    }
+}
