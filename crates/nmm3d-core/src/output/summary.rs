@@ -61,7 +61,7 @@ pub struct RunSummary {
     pub missed_overlaps: u64,
     /// Times the matrix pattern grew for newly closed contacts.
     pub pattern_rebuilds: u64,
-    /// Entries of the last Cholesky factor.
+    /// Entries of the last Cholesky factor (multigrid: of its operators, prolongators and coarsest factor).
     pub factor_nonzeros: usize,
     /// Numeric factorisations.
     pub factorizations: u64,

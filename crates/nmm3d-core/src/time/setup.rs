@@ -1,8 +1,8 @@
 //! What a stepper is built from, read once from the scenario: the linear solver with its factor
 //! reuse, and the contact penalties and tolerances.
 
-use crate::contact::ContactParams;
 use crate::assembly::dof_map::CoverDofs;
+use crate::contact::ContactParams;
 use crate::scenario::{SolverChoice, Stiffness};
 use crate::solver::{AmgParams, AmgSolver, FactorReuse, FaerCholesky, LinearSolver, ReusingSolver};
 use crate::system::System;

@@ -191,7 +191,7 @@ impl Default for Analysis {
             strain_measure: StrainMeasure::Corotational,
             ordering: Ordering::Auto,
             linear_solver: SolverChoice::Auto,
-            amg_min_equations: 150_000,
+            amg_min_equations: 20_000,
             amg_tolerance: 1e-8,
             max_open_close: 12,
             open_close_cut: 0.3,

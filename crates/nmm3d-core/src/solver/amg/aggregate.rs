@@ -45,14 +45,19 @@ pub fn strong_graph(a: &Csr, block: usize, theta: f64) -> Vec<Vec<u32>> {
             }
         }
     }
-    let diag: Vec<f64> =
-        norms.iter().enumerate().map(|(i, row)| row.iter().find(|(n, _)| *n as usize == i).map_or(0.0, |e| e.1.sqrt())).collect();
+    let diag: Vec<f64> = norms
+        .iter()
+        .enumerate()
+        .map(|(i, row)| row.iter().find(|(n, _)| *n as usize == i).map_or(0.0, |e| e.1.sqrt()))
+        .collect();
     norms
         .iter()
         .enumerate()
         .map(|(i, row)| {
             row.iter()
-                .filter(|&&(j, s)| j as usize != i && s > 0.0 && s.sqrt() >= theta * (diag[i] * diag[j as usize]).sqrt())
+                .filter(|&&(j, s)| {
+                    j as usize != i && s > 0.0 && s.sqrt() >= theta * (diag[i] * diag[j as usize]).sqrt()
+                })
                 .map(|&(j, _)| j)
                 .collect()
         })

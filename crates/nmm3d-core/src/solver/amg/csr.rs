@@ -212,10 +212,12 @@ mod tests {
 
     #[test]
     fn products_and_transposes_match_dense_arithmetic() {
-        let a: Vec<Vec<f64>> =
-            (0..7).map(|i| (0..5).map(|j| if (i * 3 + j) % 4 == 0 { (i + 2 * j) as f64 - 3.5 } else { 0.0 }).collect()).collect();
-        let b: Vec<Vec<f64>> =
-            (0..5).map(|i| (0..6).map(|j| if (i + j) % 3 == 1 { 1.0 + (i * j) as f64 } else { 0.0 }).collect()).collect();
+        let a: Vec<Vec<f64>> = (0..7)
+            .map(|i| (0..5).map(|j| if (i * 3 + j) % 4 == 0 { (i + 2 * j) as f64 - 3.5 } else { 0.0 }).collect())
+            .collect();
+        let b: Vec<Vec<f64>> = (0..5)
+            .map(|i| (0..6).map(|j| if (i + j) % 3 == 1 { 1.0 + (i * j) as f64 } else { 0.0 }).collect())
+            .collect();
         let (sa, sb) = (from_dense(&a), from_dense(&b));
         let ab = dense(&sa.times_matrix(&sb));
         for i in 0..7 {

@@ -43,10 +43,10 @@ mod tests {
     #[test]
     fn sweeps_converge_on_a_diagonally_dominant_matrix_and_leave_its_solution_alone() {
         // Tridiagonal 4, −1 of order 50 (spans all the ranges).
-        let n = 50;
+        let n: usize = 50;
         let (mut ptr, mut idx, mut val) = (vec![0], Vec::new(), Vec::new());
         for r in 0..n {
-            for (j, v) in [(r.wrapping_sub(1), -1.0), (r, 4.0), (r + 1, -1.0)] {
+            for (j, v) in [(r.wrapping_sub(1), -1.0), (r, 4.0), (r + 1, -1.0f64)] {
                 if j < n {
                     idx.push(j as u32);
                     val.push(v);

@@ -21,7 +21,8 @@ impl NearNull {
     pub fn rigid_body(positions: &[[f64; 3]]) -> Self {
         let n = positions.len().max(1) as f64;
         let c: [f64; 3] = std::array::from_fn(|d| positions.iter().map(|p| p[d]).sum::<f64>() / n);
-        let extent = positions.iter().flat_map(|p| (0..3).map(move |d| (p[d] - c[d]).abs())).fold(0.0, f64::max).max(1e-300);
+        let extent =
+            positions.iter().flat_map(|p| (0..3).map(move |d| (p[d] - c[d]).abs())).fold(0.0, f64::max).max(1e-300);
         let mut values = Vec::with_capacity(18 * positions.len());
         for p in positions {
             let [x, y, z] = [0, 1, 2].map(|d| (p[d] - c[d]) / extent);

@@ -1,0 +1,56 @@
+"""The linear solvers: multigrid-preconditioned CG (``linear_solver = "amg"``) against the direct
+Cholesky on the same static block, the automatic choice, and the keys' validation."""
+
+from __future__ import annotations
+
+import pytest
+
+import nmm3d
+
+
+def block(n: int, **analysis) -> dict:
+    """A cube of n³ cells of 1 m (6 n³ MEs), base held, loaded by its weight, run to equilibrium."""
+    return {
+        "analysis": {"kind": "static", "duration": 1.0e6, "dt": 1.0e3, "max_steps": 50, "max_displacement_ratio": 1.0,
+                     "gravity": [0.0, 0.0, -10.0], "output_interval": 0.0, **analysis},
+        "cover": {"pattern": "tet6", "size": 1.0},
+        "material": [{"name": "rock", "density": 2500.0, "young": 1.0e9, "poisson": 0.25}],
+        "body": [{"name": "block", "material": "rock", "shape": {"box": {"min": [0, 0, 0], "max": [n, n, n]}}}],
+        "constraint": [{"select": {"box": {"min": [-0.01, -0.01, -0.01], "max": [n + 0.01, n + 0.01, 0.01]}},
+                        "directions": ["x", "y", "z"]}],
+        "monitor": [{"name": "top", "select": {"point": [n / 2, n / 2, n]}, "quantities": ["displacement"],
+                     "location": "point"}],
+    }
+
+
+def run(scenario: dict, tmp_path, name: str) -> dict:
+    return nmm3d.Scenario.from_dict(scenario).run(out=tmp_path / name).summary
+
+
+def test_multigrid_pcg_reaches_the_direct_solvers_equilibrium(tmp_path):
+    direct = run(block(10, linear_solver="direct"), tmp_path, "direct")
+    amg = run(block(10, linear_solver="amg", amg_tolerance=1e-10), tmp_path, "amg")
+    assert (direct["linear_solver"], amg["linear_solver"]) == ("direct", "amg")
+    assert direct["multigrid_iterations"] == 0 < amg["multigrid_iterations"]
+    # Mesh-independent convergence: a few tens of iterations per solve, not CG's hundreds.
+    assert amg["multigrid_iterations"] <= 40 * amg["steps"]
+    assert "equilibrium reached" in amg["message"]
+    uz, want = amg["final"]["top.displacement.z"], direct["final"]["top.displacement.z"]
+    assert want < 0 and abs(uz - want) <= 1e-8 * abs(want)
+
+
+def test_auto_takes_multigrid_for_a_large_single_block_and_the_direct_solver_otherwise(tmp_path):
+    assert run(block(6, amg_min_equations=500), tmp_path, "large")["linear_solver"] == "amg"
+    assert run(block(6), tmp_path, "small")["linear_solver"] == "direct"
+    # Two blocks: contact springs, which multigrid handles poorly — direct whatever the size.
+    two = block(6, amg_min_equations=500)
+    two["joint"] = [{"name": "bedding", "friction_angle": 30.0}]
+    two["joint_plane"] = [{"point": [3.0, 3.0, 3.0], "dip": 0.0, "dip_direction": 0.0, "joint": "bedding"}]
+    summary = run(two, tmp_path, "two")
+    assert (summary["blocks"], summary["linear_solver"]) == (2, "direct")
+
+
+@pytest.mark.parametrize("key, value", [("amg_tolerance", 0.0), ("amg_tolerance", 1.5), ("linear_solver", "lu")])
+def test_bad_solver_keys_are_refused_by_name(key, value):
+    with pytest.raises(nmm3d.ScenarioError, match=key):
+        nmm3d.Scenario.from_dict(block(4, **{key: value}))
