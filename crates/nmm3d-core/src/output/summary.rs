@@ -71,10 +71,6 @@ pub struct RunSummary {
     pub krylov_iterations: u64,
     /// CG attempts that fell back to a factorisation.
     pub krylov_failures: u64,
-    /// The linear solver used: "direct" (sparse Cholesky) or "amg" (multigrid PCG).
-    pub linear_solver: String,
-    /// PCG iterations of the multigrid solver (0 with the direct one).
-    pub multigrid_iterations: u64,
     /// Out-of-balance force over applied force at the last step (`null` before any step).
     pub unbalanced_force_ratio: Option<f64>,
     /// Energy accounts of a dynamic run; `null` for a static one.
@@ -100,6 +96,16 @@ pub struct RunSummary {
     /// timings above are the last stage's model's, steps and time the whole run's.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub stages: Vec<StageSummary>,
+    /// The linear solver used: "direct" (sparse Cholesky) or "amg" (multigrid PCG).
+    #[serde(default = "direct")]
+    pub linear_solver: String,
+    /// PCG iterations of the multigrid solver (0 with the direct one).
+    #[serde(default)]
+    pub multigrid_iterations: u64,
+}
+
+fn direct() -> String {
+    "direct".into()
 }
 
 /// One stage of a staged analysis.

@@ -50,8 +50,6 @@ pub(super) fn summary(sys: &System, whole: &State, stepper: &Stepper, rec: &Reco
         krylov_solves: counts.krylov_solves,
         krylov_iterations: counts.krylov_iterations,
         krylov_failures: counts.krylov_failures,
-        linear_solver: stepper.solver().name().into(),
-        multigrid_iterations: stepper.solver().inner_iterations(),
         unbalanced_force_ratio: Some(rec.last_unbalanced).filter(|r| r.is_finite()),
         energy: energy_summary(run.energy.as_ref(), &rec.diagnostics),
         step_diagnostics: cuts::summary(sys, &rec.cut_log, &rec.diagnostics),
@@ -62,6 +60,8 @@ pub(super) fn summary(sys: &System, whole: &State, stepper: &Stepper, rec: &Reco
         initial_equilibrium: end.initial_equilibrium.as_ref().map(|s| initial_equilibrium(sys, s)),
         resumed_from: end.resumed_at.map(|(step, time)| ResumedFrom { step, time }),
         stages: Vec::new(),
+        linear_solver: stepper.solver().name().into(),
+        multigrid_iterations: stepper.solver().inner_iterations(),
     }
 }
 
