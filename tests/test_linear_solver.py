@@ -50,7 +50,8 @@ def test_auto_takes_multigrid_for_a_large_single_block_and_the_direct_solver_oth
     assert (summary["blocks"], summary["linear_solver"]) == (2, "direct")
 
 
-@pytest.mark.parametrize("key, value", [("amg_tolerance", 0.0), ("amg_tolerance", 1.5), ("linear_solver", "lu")])
+@pytest.mark.parametrize("key, value", [("amg_tolerance", 0.0), ("amg_tolerance", 1.5), ("amg_newton_tolerance", -1e-3),
+                                        ("linear_solver", "lu")])
 def test_bad_solver_keys_are_refused_by_name(key, value):
     with pytest.raises(nmm3d.ScenarioError, match=key):
         nmm3d.Scenario.from_dict(block(4, **{key: value}))

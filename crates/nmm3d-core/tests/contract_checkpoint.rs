@@ -97,6 +97,25 @@ fn a_vibrating_cantilever_solved_on_a_reused_factor_resumes_bit_identically() {
     assert!(solver.counts.krylov_solves >= 3, "{:?}", solver.counts);
 }
 
+/// The same on multigrid PCG: the checkpoint carries the hierarchy's matrix, and the resumed
+/// run rebuilds the same hierarchy.
+#[test]
+fn a_vibrating_cantilever_solved_by_multigrid_resumes_bit_identically() {
+    let mut text = common::example("cantilever.toml");
+    for (old, new) in [
+        ("kind = \"static\"", "kind = \"dynamic\"\nlinear_solver = \"amg\""),
+        ("duration = 1000.0", "duration = 0.012"),
+        ("dt = 1.0", "dt = 0.001"),
+        ("size = 0.125", "size = 0.2"),
+    ] {
+        text = common::with(&text, old, new);
+    }
+    let mid = stopped_and_resumed_equals_whole("checkpoint_cantilever_amg", &text, 5);
+    let solver = &mid.stepper.factor;
+    assert!(solver.source.is_some(), "the checkpoint holds the hierarchy's matrix");
+    assert!(solver.counts.krylov_solves >= 3, "{:?}", solver.counts);
+}
+
 /// A checkpoint in version 1's layout: the motion alone in `state`, the contact points and the
 /// counters in `stepper`.
 fn as_version_1(current: &serde_json::Value) -> serde_json::Value {

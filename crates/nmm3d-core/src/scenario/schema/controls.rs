@@ -75,6 +75,9 @@ pub struct Analysis {
     pub amg_min_equations: u64,
     /// Relative preconditioned residual at which the multigrid PCG has converged [-] (addition).
     pub amg_tolerance: f64,
+    /// In a static analysis, the relative residual to which multigrid PCG solves the Newton
+    /// corrections after a hierarchy's first solve [-] (addition).
+    pub amg_newton_tolerance: f64,
     /// Open–close iterations per step before the step is cut.
     pub max_open_close: u32,
     /// Factor applied to Δt when the open–close iteration does not settle [-].
@@ -193,6 +196,7 @@ impl Default for Analysis {
             linear_solver: SolverChoice::Auto,
             amg_min_equations: 20_000,
             amg_tolerance: 1e-8,
+            amg_newton_tolerance: 1e-3,
             max_open_close: 12,
             open_close_cut: 0.3,
             open_close_tolerance: 0.0,

@@ -157,9 +157,11 @@ fn analysis(c: &mut Checker, a: &Analysis) {
     if !(a.checkpoint_interval >= 0.0 && a.checkpoint_interval.is_finite()) {
         c.fail("analysis.checkpoint_interval", format!("must be a finite number >= 0, got {}", a.checkpoint_interval));
     }
-    for (key, tolerance) in
-        [("analysis.krylov_tolerance", a.krylov_tolerance), ("analysis.amg_tolerance", a.amg_tolerance)]
-    {
+    for (key, tolerance) in [
+        ("analysis.krylov_tolerance", a.krylov_tolerance),
+        ("analysis.amg_tolerance", a.amg_tolerance),
+        ("analysis.amg_newton_tolerance", a.amg_newton_tolerance),
+    ] {
         if !(tolerance > 0.0 && tolerance < 1.0) {
             c.fail(key, format!("must lie in (0, 1), got {tolerance}"));
         }
