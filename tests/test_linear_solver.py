@@ -3,24 +3,22 @@ Cholesky on the same static block, the automatic choice, and the keys' validatio
 
 from __future__ import annotations
 
+import sys
+from pathlib import Path
+
 import pytest
 
 import nmm3d
 
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "bench"))
+from _case import block_scenario  # noqa: E402
+
 
 def block(n: int, **analysis) -> dict:
-    """A cube of n³ cells of 1 m (6 n³ MEs), base held, loaded by its weight, run to equilibrium."""
-    return {
-        "analysis": {"kind": "static", "duration": 1.0e6, "dt": 1.0e3, "max_steps": 50, "max_displacement_ratio": 1.0,
-                     "gravity": [0.0, 0.0, -10.0], "output_interval": 0.0, **analysis},
-        "cover": {"pattern": "tet6", "size": 1.0},
-        "material": [{"name": "rock", "density": 2500.0, "young": 1.0e9, "poisson": 0.25}],
-        "body": [{"name": "block", "material": "rock", "shape": {"box": {"min": [0, 0, 0], "max": [n, n, n]}}}],
-        "constraint": [{"select": {"box": {"min": [-0.01, -0.01, -0.01], "max": [n + 0.01, n + 0.01, 0.01]}},
-                        "directions": ["x", "y", "z"]}],
-        "monitor": [{"name": "top", "select": {"point": [n / 2, n / 2, n]}, "quantities": ["displacement"],
-                     "location": "point"}],
-    }
+    """The benchmark block (n³ cells of 1 m, 6 n³ MEs, base held, own weight) to equilibrium."""
+    s = block_scenario(n)
+    s["analysis"].update({"duration": 1.0e6, "max_steps": 50, **analysis})
+    return s
 
 
 def run(scenario: dict, tmp_path, name: str) -> dict:
