@@ -25,6 +25,7 @@ CASES = {
     "cantilever_self_weight.toml": [],
     "plate_self_weight.toml": ["cover.size=0.1"],
     "plate_large_deflection.toml": ["cover.size=0.1"],
+    "large_block.toml": [],
     # Rock masses: the blocks are checked below; a short run with contact proves the scenario
     # runs end to end (the full runs take minutes).
     "tunnel_key_blocks.toml": ["analysis.duration=0.002"],
@@ -105,6 +106,12 @@ def test_full_size_examples_meet_their_expectations(results):
             continue
         for c in results[name].summary["checks"]:
             assert c["passed"], (name, c)
+
+
+def test_the_large_block_is_solved_by_multigrid(results):
+    summary = results["large_block.toml"].summary
+    assert (summary["linear_solver"], summary["factorizations"]) == ("amg", 1)
+    assert 0 < summary["multigrid_iterations"] <= 40 * summary["steps"]
 
 
 def test_examples_with_a_closed_form_state_it():
