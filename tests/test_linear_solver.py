@@ -53,3 +53,15 @@ def test_auto_takes_multigrid_for_a_large_single_block_and_the_direct_solver_oth
 def test_bad_solver_keys_are_refused_by_name(key, value):
     with pytest.raises(nmm3d.ScenarioError, match=key):
         nmm3d.Scenario.from_dict(block(4, **{key: value}))
+
+
+def test_the_flagship_cantilever_on_multigrid_matches_the_direct_solve(tmp_path):
+    """hex8 covers, a clamped end and a tip traction: the same tip deflection to 1e-6."""
+    from conftest import EXAMPLES
+
+    tips = {}
+    for solver in ("direct", "amg"):
+        r = nmm3d.load(EXAMPLES / "cantilever.toml", [f'analysis.linear_solver="{solver}"']).run(out=tmp_path / solver)
+        assert r.completed and r.summary["linear_solver"] == solver
+        tips[solver] = r.summary["final"]["tip.displacement.z"]
+    assert tips["amg"] == pytest.approx(tips["direct"], rel=1e-6)
