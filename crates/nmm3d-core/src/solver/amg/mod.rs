@@ -121,16 +121,13 @@ impl AmgSolver {
             (1, NearNull::constant(a.rows))
         };
         while a.rows > self.params.coarse_size && self.levels.len() + 1 < self.params.max_levels {
-            let agg = aggregate::aggregate(&aggregate::strong_graph(&a, block, self.params.strength));
-            if agg.count * b.k >= a.rows {
+            let inv_diag = inv_diagonal(&a)?;
+            let Some((p, coarse_b)) = self.prolongator(&a, &inv_diag, block, &b) else {
                 break; // no coarsening left
-            }
-            let (t, coarse_b) = prolong::tentative(&agg, block, &b);
-            let p = prolong::smooth(&a, &t, self.params.smoothing_weight);
+            };
             let r = p.transpose();
             let mut coarse = r.times_matrix(&a.times_matrix(&p));
             unit_diagonal_where_empty(&mut coarse);
-            let inv_diag = inv_diagonal(&a)?;
             self.levels.push(Level { a, inv_diag, p, r });
             (a, block, b) = (coarse, coarse_b.k, coarse_b);
         }
@@ -139,15 +136,26 @@ impl AmgSolver {
         direct.factorize(&pattern, &values)?;
         self.stored = self.levels.iter().map(|l| l.a.nnz() + 2 * l.p.nnz()).sum::<usize>() + direct.factor_nonzeros();
         self.coarsest = Some((a, direct));
-        self.work = self
-            .levels
-            .iter()
-            .map(|l| {
-                let (n, c) = (l.a.rows, l.p.cols);
-                Work { residual: vec![0.0; n], old: vec![0.0; n], b: vec![0.0; c], x: vec![0.0; c] }
-            })
-            .collect();
+        self.work = self.levels.iter().map(Work::for_level).collect();
         Ok(())
+    }
+
+    /// The smoothed prolongator from the next coarser level and that level's near-null
+    /// vectors; `None` when aggregation would not reduce the level.
+    fn prolongator(&self, a: &Csr, inv_diag: &[f64], block: usize, b: &NearNull) -> Option<(Csr, NearNull)> {
+        let agg = aggregate::aggregate(&aggregate::strong_graph(a, block, self.params.strength));
+        if agg.count * b.k >= a.rows {
+            return None;
+        }
+        let (t, coarse_b) = prolong::tentative(&agg, block, b);
+        Some((prolong::smooth(a, inv_diag, &t, self.params.smoothing_weight), coarse_b))
+    }
+}
+
+impl Work {
+    fn for_level(l: &Level) -> Self {
+        let (n, c) = (l.a.rows, l.p.cols);
+        Self { residual: vec![0.0; n], old: vec![0.0; n], b: vec![0.0; c], x: vec![0.0; c] }
     }
 }
 

@@ -89,10 +89,9 @@ fn norm(v: &[f64]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
-/// P = (I − ω D⁻¹ A) T, ω = `weight` / ρ(D⁻¹ A).
-pub fn smooth(a: &Csr, t: &Csr, weight: f64) -> Csr {
-    let inv_diag: Vec<f64> = a.diagonal().iter().map(|d| 1.0 / d).collect();
-    let omega = weight / spectral_radius(a, &inv_diag);
+/// P = (I − ω D⁻¹ A) T, ω = `weight` / ρ(D⁻¹ A) (`inv_diag`: D⁻¹).
+pub fn smooth(a: &Csr, inv_diag: &[f64], t: &Csr, weight: f64) -> Csr {
+    let omega = weight / spectral_radius(a, inv_diag);
     let mut p = a.times_matrix(t);
     for r in 0..p.rows {
         let (ti, tv) = t.row(r);
