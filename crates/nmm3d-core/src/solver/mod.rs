@@ -4,6 +4,7 @@
 mod amg;
 mod faer_cholesky;
 pub mod ordering;
+mod packed;
 pub mod pcg;
 mod reuse;
 
