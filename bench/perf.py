@@ -72,7 +72,7 @@ def write(rows, orderings) -> None:
         "`covers` builds manifold elements and physical covers; `setup` the element kernels, sparsity,",
         "scatter maps and mass; `assembly` the co-rotated stiffness and forces of the step;",
         "`ordering` the fill-reducing ordering and symbolic analysis; `factor` the numeric Cholesky;",
-        "`output` the VTU frames (first and last) and tables; `other` the rest (scenario parsing, the",
+        "`output` the VTU frames (first and last), tables and the final checkpoint; `other` the rest (scenario parsing, the",
         "initial force evaluation, monitor set-up, Python start-up of the call).",
         "",
         "| MEs | DOFs | covers | setup | assembly | ordering | factor | solve | output | other | end to end | peak MB | covers + setup + assembly / factor |",

@@ -25,6 +25,7 @@ pub mod input;
 pub mod model;
 pub mod monitor;
 pub mod output;
+pub mod packed;
 pub mod scenario;
 pub mod simulation;
 pub mod solver;

@@ -26,6 +26,7 @@ pub struct Motion {
     /// Acceleration of each cover [m/s²] (used by Newmark with β ≠ ½).
     pub a: Vec<Vec3>,
     /// Co-rotation of each ME (warm start of the polar decomposition).
+    #[serde(with = "crate::packed::mat3s")]
     pub rotations: Vec<Mat3>,
     /// Plastic elongation and rupture of each bolt.
     #[serde(default)]

@@ -71,10 +71,13 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
         Err(e @ (Error::Diverged { .. } | Error::Solver { .. })) => (Status::Failed, e.to_string()),
         Err(e) => return Err(failed(&sys, &state, &stepper, &rec, e, t_start)),
     };
+    // The last frame, the tables and the checkpoint count as output too.
+    let t_out = Instant::now();
     let written = rec.finish(&sys, &state);
-    if let Err(e) =
-        written.and_then(|_| if status == Status::Failed { Ok(()) } else { saver.save(&state, &stepper, &rec) })
-    {
+    let written =
+        written.and_then(|_| if status == Status::Failed { Ok(()) } else { saver.save(&state, &stepper, &rec) });
+    rec.output_seconds += t_out.elapsed().as_secs_f64();
+    if let Err(e) = written {
         return Err(failed(&sys, &state, &stepper, &rec, e, t_start));
     }
     let end = Ending {

@@ -4,7 +4,6 @@
 mod amg;
 mod faer_cholesky;
 pub mod ordering;
-mod packed;
 pub mod pcg;
 mod reuse;
 

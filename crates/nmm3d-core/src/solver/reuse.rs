@@ -52,7 +52,7 @@ pub struct FactorSource {
     /// Its pattern (lower triangle).
     pub pattern: SparsityPattern,
     /// Its values on that pattern.
-    #[serde(with = "super::packed")]
+    #[serde(with = "crate::packed")]
     pub values: Vec<f64>,
     /// It was of the kind that the next matrices are near (no contact springs): any `nearby`
     /// matrix may be solved on it; otherwise only one close to it entry by entry.
