@@ -120,32 +120,39 @@ impl ReusingSolver {
             None => false,
         };
         if near && !self.renew {
-            if let Some(out) = self.direct.solve_nearby(pattern, values, rhs) {
-                if out.converged {
-                    self.counts.krylov_solves += 1;
-                    return Ok(Solved::Krylov(out.iterations));
-                }
-                self.counts.krylov_failures += 1;
-                self.factorize(pattern, values, nearby)?;
-                self.direct.solve(rhs);
-                return Ok(Solved::Factorized);
+            if let Some(iterations) = self.solve_on_factor(pattern, values, rhs) {
+                return Ok(Solved::Krylov(iterations));
             }
-            let mut x = vec![0.0; rhs.len()];
-            let direct = &mut self.direct;
-            let (tol, max) = (self.reuse.tolerance, self.reuse.max_iterations);
-            let out = pcg(pattern, values, rhs, &mut x, |r| direct.solve(r), tol, max);
-            self.counts.krylov_iterations += u64::from(out.iterations);
-            if out.converged {
-                self.counts.krylov_solves += 1;
-                self.renew = 2 * out.iterations > max;
-                rhs.copy_from_slice(&x);
-                return Ok(Solved::Krylov(out.iterations));
-            }
-            self.counts.krylov_failures += 1;
         }
         self.factorize(pattern, values, nearby)?;
         self.direct.solve(rhs);
         Ok(Solved::Factorized)
+    }
+
+    /// Solve in place by iterations on the last factor: the solver's own (multigrid), else PCG
+    /// preconditioned by the factor. Their iterations if they converged; `None` (counted a
+    /// failure, `rhs` untouched) if not.
+    fn solve_on_factor(&mut self, pattern: &SparsityPattern, values: &[f64], rhs: &mut [f64]) -> Option<u32> {
+        let converged = match self.direct.solve_nearby(pattern, values, rhs) {
+            Some(out) => out.converged.then_some(out.iterations),
+            None => {
+                let mut x = vec![0.0; rhs.len()];
+                let direct = &mut self.direct;
+                let (tol, max) = (self.reuse.tolerance, self.reuse.max_iterations);
+                let out = pcg(pattern, values, rhs, &mut x, |r| direct.solve(r), tol, max);
+                self.counts.krylov_iterations += u64::from(out.iterations);
+                self.renew = out.converged && 2 * out.iterations > max;
+                out.converged.then(|| {
+                    rhs.copy_from_slice(&x);
+                    out.iterations
+                })
+            }
+        };
+        match converged {
+            Some(_) => self.counts.krylov_solves += 1,
+            None => self.counts.krylov_failures += 1,
+        }
+        converged
     }
 
     /// Factorise and solve, and have the next solve factorise again (a matrix unlike the

@@ -115,11 +115,11 @@ impl AmgSolver {
 
     fn build(&mut self, mut a: Csr) -> Result<(), SolverFailure> {
         (self.levels, self.work) = (Vec::new(), Vec::new());
-        let (mut block, mut b) = if self.positions.len() * 3 == a.rows {
-            (3, NearNull::rigid_body(&self.positions))
-        } else {
-            (1, NearNull::constant(a.rows))
-        };
+        if self.positions.len() * 3 != a.rows {
+            let nodes = self.positions.len();
+            return Err(SolverFailure::Analysis(format!("{} equations for {nodes} nodes of three", a.rows)));
+        }
+        let (mut block, mut b) = (3, NearNull::rigid_body(&self.positions));
         while a.rows > self.params.coarse_size && self.levels.len() + 1 < self.params.max_levels {
             let inv_diag = inv_diagonal(&a)?;
             let Some((p, coarse_b)) = self.prolongator(&a, &inv_diag, block, &b) else {

@@ -33,11 +33,6 @@ impl NearNull {
         }
         Self { k: 6, values }
     }
-
-    /// One constant vector (a scalar problem).
-    pub fn constant(n: usize) -> Self {
-        Self { k: 1, values: vec![1.0; n] }
-    }
 }
 
 /// T and the coarse level's near-null vectors (T Bc = B): per aggregate a QR factorisation of
