@@ -95,8 +95,7 @@ pub fn comparable(s: &Scenario) -> Value {
 
 /// Write `checkpoint.json` in `out` (atomically).
 pub fn write(out: &Path, c: &Checkpoint) -> Result<()> {
-    let text = serde_json::to_vec(c).expect("a checkpoint serialises");
-    atomic::write(&out.join(FILE), &text)
+    atomic::write_with(&out.join(FILE), |w| serde_json::to_writer(w, c).map_err(std::io::Error::from))
 }
 
 /// Read `out/checkpoint.json` and check it belongs to `scenario` (`label` names it).

@@ -1,92 +1,148 @@
-//! Large arrays of f64 in a checkpoint as base64 of their little-endian bytes: exact, a third
-//! of the decimal text's size and written without formatting each number (the matrix of a
-//! reused factor or multigrid hierarchy: 12 M values at 10⁶ MEs; a rotation per ME). Read from
-//! either form, so checkpoints written before still load. `#[serde(with = "crate::packed")]`
-//! on a `Vec<f64>`, `crate::packed::mat3s` on a `Vec<Mat3>`.
+//! Large arrays in a checkpoint as base64 of their little-endian bytes: exact, a third of the
+//! decimal text's size and written without formatting each number (the matrix of a reused
+//! factor or multigrid hierarchy: 12 M values and their pattern at 10⁶ MEs; a rotation per ME).
+//! Encoded piece by piece straight into the output (no copy of the whole array or its text).
+//! Read from either form, so checkpoints written before still load.
+//! `#[serde(with = "crate::packed")]` on a `Vec<f64>`, `crate::packed::u32s` on a `Vec<u32>`,
+//! `crate::packed::mat3s` on a `Vec<Mat3>`. [`LittleEndian`] is also the VTU writer's.
+
+use std::fmt;
+use std::marker::PhantomData;
 
 use base64::engine::general_purpose::STANDARD as BASE64;
 use base64::Engine as _;
-use serde::de::{self, SeqAccess, Visitor};
+use nmm3d_geom::Mat3;
+use serde::de::{self, Deserialize, SeqAccess, Visitor};
 use serde::{Deserializer, Serializer};
 
-/// Serialize as one base64 string.
-pub fn serialize<S: Serializer>(values: &[f64], s: S) -> Result<S::Ok, S::Error> {
-    let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
-    s.serialize_str(&BASE64.encode(bytes))
+/// A value stored as its little-endian bytes.
+pub trait LittleEndian: Copy {
+    /// Bytes per value.
+    const SIZE: usize;
+    /// Append the bytes.
+    fn put(self, out: &mut Vec<u8>);
+    /// The value of `SIZE` bytes.
+    fn take(bytes: &[u8]) -> Self;
 }
 
-/// Deserialize from a base64 string or an array of numbers.
-pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<f64>, D::Error> {
-    d.deserialize_any(Packed)
-}
-
-struct Packed;
-
-impl<'de> Visitor<'de> for Packed {
-    type Value = Vec<f64>;
-
-    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-        f.write_str("an array of numbers or base64 of little-endian f64")
-    }
-
-    fn visit_str<E: de::Error>(self, text: &str) -> Result<Vec<f64>, E> {
-        let bytes = BASE64.decode(text).map_err(E::custom)?;
-        if bytes.len() % 8 != 0 {
-            return Err(E::custom(format!("{} bytes are not whole f64 values", bytes.len())));
+macro_rules! little_endian {
+    ($($t:ty),*) => {$(
+        impl LittleEndian for $t {
+            const SIZE: usize = std::mem::size_of::<$t>();
+            fn put(self, out: &mut Vec<u8>) {
+                out.extend_from_slice(&self.to_le_bytes());
+            }
+            fn take(bytes: &[u8]) -> Self {
+                <$t>::from_le_bytes(bytes.try_into().expect("SIZE bytes"))
+            }
         }
-        Ok(bytes.chunks_exact(8).map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes"))).collect())
+    )*};
+}
+little_endian!(f64, i64, i32, u32, u8);
+
+/// A 3 × 3 matrix as its nine entries, column-major (as nalgebra stores them).
+impl LittleEndian for Mat3 {
+    const SIZE: usize = 72;
+    fn put(self, out: &mut Vec<u8>) {
+        self.iter().for_each(|x| x.put(out));
+    }
+    fn take(bytes: &[u8]) -> Self {
+        let e: Vec<f64> = bytes.chunks_exact(8).map(f64::take).collect();
+        Mat3::from_column_slice(&e)
+    }
+}
+
+/// Base64 of the values' bytes, written in pieces of a multiple of three bytes (so the
+/// pieces' encodings are the whole array's).
+pub struct Base64Of<'a, T>(pub &'a [T]);
+
+impl<T: LittleEndian> fmt::Display for Base64Of<'_, T> {
+    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        const VALUES: usize = 3 << 10;
+        let (mut bytes, mut text) = (Vec::with_capacity(VALUES * T::SIZE), vec![0u8; VALUES * T::SIZE / 3 * 4]);
+        for piece in self.0.chunks(VALUES) {
+            bytes.clear();
+            piece.iter().for_each(|v| v.put(&mut bytes));
+            let n = BASE64.encode_slice(&bytes, &mut text).expect("the buffer holds a piece's encoding");
+            f.write_str(std::str::from_utf8(&text[..n]).expect("base64 is ASCII"))?;
+        }
+        Ok(())
+    }
+}
+
+fn serialize_values<T: LittleEndian, S: Serializer>(values: &[T], s: S) -> Result<S::Ok, S::Error> {
+    s.collect_str(&Base64Of(values))
+}
+
+/// Reads base64 of the values' bytes, or an array of the values (the former form).
+struct Packed<T>(PhantomData<T>);
+
+impl<'de, T: LittleEndian + Deserialize<'de>> Visitor<'de> for Packed<T> {
+    type Value = Vec<T>;
+
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        write!(f, "an array or base64 of values of {} little-endian bytes", T::SIZE)
     }
 
-    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Vec<f64>, A::Error> {
+    fn visit_str<E: de::Error>(self, text: &str) -> Result<Vec<T>, E> {
+        let bytes = BASE64.decode(text).map_err(E::custom)?;
+        if bytes.len() % T::SIZE != 0 {
+            return Err(E::custom(format!("{} bytes are not whole values of {} bytes", bytes.len(), T::SIZE)));
+        }
+        Ok(bytes.chunks_exact(T::SIZE).map(T::take).collect())
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Vec<T>, A::Error> {
         let mut out = Vec::with_capacity(seq.size_hint().unwrap_or(0));
-        while let Some(v) = seq.next_element()? {
+        while let Some(v) = seq.next_element::<T>()? {
             out.push(v);
         }
         Ok(out)
     }
 }
 
-/// A `Vec<Mat3>` as the base64 of its matrices' entries (column-major, as nalgebra stores them).
+fn deserialize_values<'de, T: LittleEndian + Deserialize<'de>, D: Deserializer<'de>>(d: D) -> Result<Vec<T>, D::Error> {
+    d.deserialize_any(Packed(PhantomData))
+}
+
+/// Serialize `Vec<f64>` as one base64 string.
+pub fn serialize<S: Serializer>(values: &[f64], s: S) -> Result<S::Ok, S::Error> {
+    serialize_values(values, s)
+}
+
+/// Deserialize `Vec<f64>` from a base64 string or an array of numbers.
+pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<f64>, D::Error> {
+    deserialize_values(d)
+}
+
+/// A `Vec<u32>` (a sparsity pattern's indices) as base64.
+pub mod u32s {
+    use serde::{Deserializer, Serializer};
+
+    /// Serialize as one base64 string.
+    pub fn serialize<S: Serializer>(values: &[u32], s: S) -> Result<S::Ok, S::Error> {
+        super::serialize_values(values, s)
+    }
+
+    /// Deserialize from that string or an array of numbers.
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<u32>, D::Error> {
+        super::deserialize_values(d)
+    }
+}
+
+/// A `Vec<Mat3>` as base64 of the matrices' entries (column-major).
 pub mod mat3s {
     use nmm3d_geom::Mat3;
-    use serde::de::{self, SeqAccess, Visitor};
     use serde::{Deserializer, Serializer};
 
     /// Serialize as one base64 string of 9 f64 per matrix.
     pub fn serialize<S: Serializer>(values: &[Mat3], s: S) -> Result<S::Ok, S::Error> {
-        let flat: Vec<f64> = values.iter().flat_map(|m| m.iter().copied()).collect();
-        super::serialize(&flat, s)
+        super::serialize_values(values, s)
     }
 
     /// Deserialize from that string or from a sequence of matrices (the former layout).
     pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<Mat3>, D::Error> {
-        d.deserialize_any(Matrices)
-    }
-
-    struct Matrices;
-
-    impl<'de> Visitor<'de> for Matrices {
-        type Value = Vec<Mat3>;
-
-        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-            f.write_str("a sequence of 3 × 3 matrices or base64 of their entries")
-        }
-
-        fn visit_str<E: de::Error>(self, text: &str) -> Result<Vec<Mat3>, E> {
-            let flat = super::Packed.visit_str::<E>(text)?;
-            if flat.len() % 9 != 0 {
-                return Err(E::custom(format!("{} values are not whole 3 × 3 matrices", flat.len())));
-            }
-            Ok(flat.chunks_exact(9).map(Mat3::from_column_slice).collect())
-        }
-
-        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Vec<Mat3>, A::Error> {
-            let mut out = Vec::with_capacity(seq.size_hint().unwrap_or(0));
-            while let Some(m) = seq.next_element::<Mat3>()? {
-                out.push(m);
-            }
-            Ok(out)
-        }
+        super::deserialize_values(d)
     }
 }
 
@@ -130,5 +186,22 @@ mod tests {
         }
         let former = serde_json::to_string(&Former { r: h.r.clone() }).unwrap();
         assert_eq!(serde_json::from_str::<Rotations>(&former).unwrap(), h);
+    }
+
+    #[derive(Debug, PartialEq, Serialize, Deserialize)]
+    struct Indices {
+        #[serde(with = "super::u32s")]
+        i: Vec<u32>,
+    }
+
+    /// Longer than one encoding piece: the pieces join into the whole array's encoding.
+    #[test]
+    fn long_index_arrays_round_trip_and_the_array_form_still_reads() {
+        let h = Indices { i: (0..10_007u32).map(|k| k.wrapping_mul(2_654_435_761)).collect() };
+        let text = serde_json::to_string(&h).unwrap();
+        assert_eq!(text.len(), "{\"i\":\"\"}".len() + (4 * h.i.len()).div_ceil(3) * 4);
+        assert_eq!(serde_json::from_str::<Indices>(&text).unwrap(), h);
+        assert_eq!(serde_json::from_str::<Indices>("{\"i\": [3, 0, 7]}").unwrap().i, vec![3, 0, 7]);
+        assert!(serde_json::from_str::<Indices>("{\"i\": \"AAA=\"}").is_err());
     }
 }

@@ -21,8 +21,10 @@ pub struct SparsityPattern {
     /// Matrix order.
     pub n: usize,
     /// Column pointers (n + 1).
+    #[serde(with = "crate::packed::u32s")]
     pub col_ptr: Vec<u32>,
     /// Row indices, sorted within each column, all ≥ the column.
+    #[serde(with = "crate::packed::u32s")]
     pub row_idx: Vec<u32>,
 }
 

@@ -1,6 +1,6 @@
-//! VTK XML writers: one `.vtu` per frame with every manifold element as a polyhedral cell
-//! (VTK_POLYHEDRON, legacy `faces`/`faceoffsets` layout), `blocks.vtu` with the blocks, and the
-//! `.pvd` collection. Arrays are little-endian binary in the `AppendedData` section, each block
+//! VTK XML writers: one `.vtu` per frame (gathered by [`super::frame`]) with every manifold
+//! element as a polyhedral cell (VTK_POLYHEDRON, legacy `faces`/`faceoffsets` layout),
+//! `blocks.vtu` with the blocks, and the `.pvd` collection. Arrays are little-endian binary in the `AppendedData` section, each block
 //! (its UInt64 byte count, then the data) base64-encoded on its own, which VTK, ParaView,
 //! PyVista and meshio read. (Raw appended data is smaller, but meshio 5.3 re-encodes it to
 //! base64 and finds each array by its offset: when an array's new offset equals a later
@@ -15,78 +15,104 @@
 use base64::engine::general_purpose::STANDARD as BASE64;
 use base64::Engine as _;
 use rustc_hash::FxHashMap;
+use std::collections::hash_map::Entry;
 use std::fmt::Write as _;
+use std::io::Write;
 use std::path::Path;
 
 use nmm3d_geom::{ConvexPolyhedron, Vec3};
 
 use super::atomic;
 use crate::contact::ContactRecord;
-use crate::element::kernel::stress_components;
 use crate::error::Result;
+use crate::packed::LittleEndian;
 use crate::state::Motion;
 use crate::system::System;
-use crate::time::corotation;
 use nmm3d_geom::contact::Mode;
 
 const VTK_VERTEX: u8 = 1;
 const VTK_LINE: u8 = 3;
 const VTK_POLYHEDRON: u8 = 42;
 /// Vertices of one block closer than this fraction of the cover size are one point.
-const POINT_QUANTUM: f64 = 1e-9;
+pub(super) const POINT_QUANTUM: f64 = 1e-9;
+/// The end of every `.vtu` file, after its appended data.
+const TAIL: &[u8] = b"\n</AppendedData>\n</VTKFile>\n";
 
 /// `values` (`comps` per cell) in the cells' write order.
-fn permute<T: Copy>(values: &[T], comps: usize, order: &[usize]) -> Vec<T> {
+pub(super) fn permute<T: Copy>(values: &[T], comps: usize, order: &[usize]) -> Vec<T> {
     order.iter().flat_map(|&i| values[comps * i..comps * (i + 1)].iter().copied()).collect()
 }
 
-fn point_key(block: usize, x: &Vec3, quantum: f64) -> [i64; 4] {
+pub(super) fn point_key(block: usize, x: &Vec3, quantum: f64) -> [i64; 4] {
     [block as i64, (x.x / quantum).round() as i64, (x.y / quantum).round() as i64, (x.z / quantum).round() as i64]
 }
 
-/// Polyhedral cells being collected. Points are shared between cells through a key (block and
-/// quantised reference position), so a frame stores each vertex once per block.
-#[derive(Default)]
-struct Cells {
-    points: Vec<Vec3>,
-    keys: FxHashMap<[i64; 4], i32>,
-    /// Per cell: its distinct point ids, and its faces (count, then each face's size and ids).
-    cells: Vec<(Vec<i32>, Vec<i32>)>,
+/// One polyhedral cell before its points are shared with other cells: each distinct vertex
+/// (own coordinates) with its key, and the faces (count, then each face's size and indices
+/// into `verts`). Made independently per cell, so in parallel.
+pub(super) struct Shape {
+    keys: Vec<[i64; 4]>,
+    pub verts: Vec<Vec3>,
+    faces: Vec<i32>,
 }
 
-impl Cells {
-    /// Add a polyhedron; each distinct vertex is keyed by `key` and, when new, placed by
-    /// `place`. Returns the vertices (own coordinates) that created new points, in point order.
-    fn push(
-        &mut self,
-        poly: &ConvexPolyhedron,
-        key: impl Fn(&Vec3) -> [i64; 4],
-        place: impl Fn(&Vec3) -> Vec3,
-    ) -> Vec<Vec3> {
+impl Shape {
+    pub fn of(poly: &ConvexPolyhedron, key: impl Fn(&Vec3) -> [i64; 4]) -> Self {
         let verts = poly.vertices();
-        let mut created = Vec::new();
-        let ids: Vec<i32> = verts
-            .iter()
-            .map(|v| {
-                *self.keys.entry(key(v)).or_insert_with(|| {
-                    self.points.push(place(v));
-                    created.push(*v);
-                    (self.points.len() - 1) as i32
-                })
-            })
-            .collect();
-        // Vertices of a sliver closer than the key's quantum are one point: list it once.
-        let mut conn = ids.clone();
-        conn.sort_unstable();
-        conn.dedup();
+        let keys = verts.iter().map(key).collect();
         let mut faces = vec![poly.faces.len() as i32];
         let tol = 1e-12 * poly.aabb().diagonal();
         for f in &poly.faces {
             faces.push(f.vertices.len() as i32);
             for v in &f.vertices {
                 let k = verts.iter().position(|w| (w - v).norm() <= tol).expect("a face vertex is a vertex");
-                faces.push(ids[k]);
+                faces.push(k as i32);
             }
+        }
+        Self { keys, verts, faces }
+    }
+}
+
+/// Polyhedral cells being collected. Points are shared between cells through a key (block and
+/// quantised reference position), so a frame stores each vertex once per block; the caller
+/// places the points (`points`, in the order [`Cells::add`] creates them).
+#[derive(Default)]
+pub(super) struct Cells {
+    pub points: Vec<Vec3>,
+    keys: FxHashMap<[i64; 4], i32>,
+    /// Per cell: its distinct point ids, and its faces (count, then each face's size and ids).
+    cells: Vec<(Vec<i32>, Vec<i32>)>,
+}
+
+impl Cells {
+    /// Add a cell; returns the indices (into `shape.verts`) of the vertices that created new
+    /// points, in point order.
+    pub fn add(&mut self, shape: &Shape) -> Vec<usize> {
+        let mut created = Vec::new();
+        let ids: Vec<i32> = (shape.keys.iter().enumerate())
+            .map(|(k, key)| {
+                let next = self.keys.len() as i32;
+                match self.keys.entry(*key) {
+                    Entry::Occupied(o) => *o.get(),
+                    Entry::Vacant(v) => {
+                        created.push(k);
+                        *v.insert(next)
+                    }
+                }
+            })
+            .collect();
+        // Vertices of a sliver closer than the key's quantum are one point: list it once.
+        let mut conn = ids.clone();
+        conn.sort_unstable();
+        conn.dedup();
+        let mut faces = shape.faces.clone();
+        let mut i = 1;
+        while i < faces.len() {
+            let n = faces[i] as usize;
+            for f in &mut faces[i + 1..=i + n] {
+                *f = ids[*f as usize];
+            }
+            i += n + 1;
         }
         self.cells.push((conn, faces));
         created
@@ -96,21 +122,25 @@ impl Cells {
     /// polyhedra by point count in order of first appearance but their cell data in ascending
     /// order, so any other order pairs cells with the wrong data; VTK does not care. Cell
     /// data arrays are permuted by [`permute`] with the same order.
-    fn order(&self) -> Vec<usize> {
+    pub fn order(&self) -> Vec<usize> {
         let mut order: Vec<usize> = (0..self.cells.len()).collect();
         order.sort_by_key(|&i| self.cells[i].0.len());
         order
     }
 
-    fn write(
+    /// Write the file: these cells in `order`, with the arrays already declared in the XML
+    /// snippets (their values in `bin`).
+    pub fn write(
         &self,
+        path: &Path,
         order: &[usize],
-        bin: &mut Appended,
+        mut bin: Appended,
         field_data: &str,
         point_data: &str,
         cell_data: &str,
-    ) -> Vec<u8> {
-        let (mut conn, mut offsets, mut faces, mut face_offsets) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    ) -> Result<()> {
+        let (mut conn, mut offsets, mut faces, mut face_offsets): (Vec<i32>, Vec<i32>, Vec<i32>, Vec<i32>) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         for &i in order {
             conn.extend(&self.cells[i].0);
             offsets.push(conn.len() as i32);
@@ -124,106 +154,78 @@ impl Cells {
         let _ = writeln!(s, "{point_data}{cell_data}<Points>");
         bin.vec3(&mut s, "Points", &self.points);
         s.push_str("</Points>\n<Cells>\n");
-        bin.i32(&mut s, "connectivity", &conn);
-        bin.i32(&mut s, "offsets", &offsets);
-        bin.u8(&mut s, "types", &vec![VTK_POLYHEDRON; offsets.len()]);
-        bin.i32(&mut s, "faces", &faces);
-        bin.i32(&mut s, "faceoffsets", &face_offsets);
-        s.push_str("</Cells>\n</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"base64\">\n_");
-        let mut out = s.into_bytes();
-        out.extend_from_slice(bin.data.as_bytes());
-        out.extend_from_slice(b"\n</AppendedData>\n</VTKFile>\n");
-        out
+        bin.array(&mut s, "Int32", "connectivity", 1, &conn);
+        bin.array(&mut s, "Int32", "offsets", 1, &offsets);
+        bin.array(&mut s, "UInt8", "types", 1, &vec![VTK_POLYHEDRON; offsets.len()]);
+        bin.array(&mut s, "Int32", "faces", 1, &faces);
+        bin.array(&mut s, "Int32", "faceoffsets", 1, &face_offsets);
+        s.push_str("</Cells>\n</Piece>\n</UnstructuredGrid>\n");
+        bin.write(path, &s)
     }
 }
 
-/// The base64-encoded blocks of the `AppendedData` section, and the XML that points into them
-/// (offsets in characters from the `_`).
+/// The blocks of the `AppendedData` section (each its UInt64 byte count, then the values),
+/// and the XML that points into them (offsets in base64 characters from the `_`). Encoded
+/// and streamed to the file only when it is written.
 #[derive(Default)]
-struct Appended {
-    data: String,
+pub(super) struct Appended {
+    blocks: Vec<Vec<u8>>,
+    chars: usize,
 }
 
 impl Appended {
-    fn declare(
-        &mut self,
-        s: &mut String,
-        ty: &str,
-        name: &str,
-        comps: usize,
-        bytes: impl Iterator<Item = u8>,
-        len: usize,
-    ) {
+    /// Declare the array `name` (VTK type `ty`, `comps` components) in `s` and keep its block.
+    pub fn array<T: LittleEndian>(&mut self, s: &mut String, ty: &str, name: &str, comps: usize, v: &[T]) {
         // One component is VTK's default; leaving it out keeps meshio's arrays one-dimensional
         // (it reshapes by NumberOfComponents, and a (n, 1) `faces` array breaks its reader).
         let comps = if comps == 1 { String::new() } else { format!(" NumberOfComponents=\"{comps}\"") };
         let _ = writeln!(
             s,
             "<DataArray type=\"{ty}\" Name=\"{name}\"{comps} format=\"appended\" offset=\"{}\"/>",
-            self.data.len()
+            self.chars
         );
+        let len = std::mem::size_of_val(v);
         let mut block = Vec::with_capacity(8 + len);
         block.extend_from_slice(&(len as u64).to_le_bytes());
-        block.extend(bytes);
-        BASE64.encode_string(&block, &mut self.data);
+        v.iter().for_each(|x| x.put(&mut block));
+        // Padded base64: four characters per three bytes, rounded up.
+        self.chars += block.len().div_ceil(3) * 4;
+        self.blocks.push(block);
     }
-    fn f64(&mut self, s: &mut String, name: &str, comps: usize, v: &[f64]) {
-        self.declare(s, "Float64", name, comps, v.iter().flat_map(|x| x.to_le_bytes()), 8 * v.len());
+    pub fn f64(&mut self, s: &mut String, name: &str, comps: usize, v: &[f64]) {
+        self.array(s, "Float64", name, comps, v);
     }
-    fn i64(&mut self, s: &mut String, name: &str, comps: usize, v: &[i64]) {
-        self.declare(s, "Int64", name, comps, v.iter().flat_map(|x| x.to_le_bytes()), 8 * v.len());
+    pub fn i64(&mut self, s: &mut String, name: &str, comps: usize, v: &[i64]) {
+        self.array(s, "Int64", name, comps, v);
     }
-    fn i32(&mut self, s: &mut String, name: &str, v: &[i32]) {
-        self.declare(s, "Int32", name, 1, v.iter().flat_map(|x| x.to_le_bytes()), 4 * v.len());
-    }
-    fn u8(&mut self, s: &mut String, name: &str, v: &[u8]) {
-        self.declare(s, "UInt8", name, 1, v.iter().copied(), v.len());
-    }
-    fn vec3(&mut self, s: &mut String, name: &str, v: &[Vec3]) {
+    pub fn vec3(&mut self, s: &mut String, name: &str, v: &[Vec3]) {
         let flat: Vec<f64> = v.iter().flat_map(|p| [p.x, p.y, p.z]).collect();
         self.f64(s, name, 3, &flat);
     }
-}
 
-/// Write one frame.
-pub fn write_frame(sys: &System, state: &Motion, path: &Path) -> Result<()> {
-    let mut cells = Cells::default();
-    let quantum = POINT_QUANTUM * sys.covers.mesh().size;
-    let (mut disp, mut vel, mut reference) = (Vec::new(), Vec::new(), Vec::new());
-    let (mut block_id, mut element_id, mut stress) = (Vec::new(), Vec::new(), Vec::new());
-    for (e, me) in sys.covers.elements.iter().enumerate() {
-        let w = sys.covers.weights(me);
-        let interpolate = |xi: &Vec3, f: &dyn Fn(usize) -> Vec3| -> Vec3 {
-            me.covers.iter().zip(w).map(|(&c, wa)| wa.eval(xi) * f(c)).sum()
-        };
-        let key = |xi: &Vec3| point_key(me.block, &sys.covers.global(me, xi), quantum);
-        let sigma = stress_components(&corotation::element_stress(sys, state, e));
-        for part in &me.parts {
-            // Positions in the scenario's coordinates (the model runs in a local frame).
-            let o = sys.geometry.origin;
-            for xi in &cells.push(part, key, |xi| interpolate(xi, &|c| state.position(sys, c)) + o) {
-                disp.push(interpolate(xi, &|c| state.u[c]));
-                vel.push(interpolate(xi, &|c| state.v[c]));
-                reference.push(interpolate(xi, &|c| sys.covers.covers[c].position) + o);
+    /// Each block base64-encoded on its own, in pieces of a multiple of three bytes (so the
+    /// pieces' encodings are the whole block's).
+    fn encode(&self, w: &mut dyn Write) -> std::io::Result<()> {
+        const PIECE: usize = 3 << 14;
+        let mut buf = vec![0u8; PIECE / 3 * 4];
+        for block in &self.blocks {
+            for piece in block.chunks(PIECE) {
+                let n = BASE64.encode_slice(piece, &mut buf).expect("the buffer holds a piece's encoding");
+                w.write_all(&buf[..n])?;
             }
-            block_id.push(me.block as i64);
-            element_id.push(e as i64);
-            stress.extend(sigma);
         }
+        Ok(())
     }
-    let mut bin = Appended::default();
-    let mut point_data = String::from("<PointData Vectors=\"displacement\">\n");
-    bin.vec3(&mut point_data, "displacement", &disp);
-    bin.vec3(&mut point_data, "velocity", &vel);
-    bin.vec3(&mut point_data, "reference_position", &reference);
-    point_data.push_str("</PointData>\n");
-    let order = cells.order();
-    let mut cell_data = String::from("<CellData Scalars=\"block_id\">\n");
-    bin.i64(&mut cell_data, "block_id", 1, &permute(&block_id, 1, &order));
-    bin.i64(&mut cell_data, "element_id", 1, &permute(&element_id, 1, &order));
-    bin.f64(&mut cell_data, "stress", 6, &permute(&stress, 6, &order));
-    cell_data.push_str("</CellData>\n");
-    atomic::write(path, &cells.write(&order, &mut bin, &field_data(state.time), &point_data, &cell_data))
+
+    /// Write the file: `head` (the XML up to the appended data), then the blocks.
+    fn write(&self, path: &Path, head: &str) -> Result<()> {
+        atomic::write_with(path, |w| {
+            w.write_all(head.as_bytes())?;
+            w.write_all(b"<AppendedData encoding=\"base64\">\n_")?;
+            self.encode(w)?;
+            w.write_all(TAIL)
+        })
+    }
 }
 
 /// Write the contact points of a frame (forces on A, the block of higher index).
@@ -251,7 +253,7 @@ pub fn write_contacts(sys: &System, state: &Motion, records: &[ContactRecord], p
     point_data.push_str("</PointData>\n");
     let n = points.len();
     let simple = SimpleCells { kind: VTK_VERTEX, connectivity: (0..n as i32).collect() };
-    atomic::write(path, &simple.write(state.time, &points, &mut bin, &point_data, ""))
+    simple.write(path, state.time, &points, bin, &point_data, "")
 }
 
 /// Write the blocks (reference geometry) as polyhedral cells with `block_id`, `body_id`, `volume`.
@@ -261,7 +263,10 @@ pub fn write_blocks(geometry: &crate::model::Geometry, path: &Path) -> Result<()
     for (i, b) in geometry.blocks.iter().enumerate() {
         for piece in &b.pieces {
             let quantum = POINT_QUANTUM * piece.aabb().diagonal();
-            let _ = cells.push(piece, |x| point_key(i, x, quantum), |x| x + geometry.origin);
+            let shape = Shape::of(piece, |x| point_key(i, x, quantum));
+            for k in cells.add(&shape) {
+                cells.points.push(shape.verts[k] + geometry.origin);
+            }
             ids.push(i as i64);
             bodies.push(b.body as i64);
             vols.push(b.volume);
@@ -274,12 +279,12 @@ pub fn write_blocks(geometry: &crate::model::Geometry, path: &Path) -> Result<()
     bin.i64(&mut cell_data, "body_id", 1, &permute(&bodies, 1, &order));
     bin.f64(&mut cell_data, "volume", 1, &permute(&vols, 1, &order));
     cell_data.push_str("</CellData>\n");
-    atomic::write(path, &cells.write(&order, &mut bin, &field_data(0.0), "", &cell_data))
+    cells.write(path, &order, bin, &field_data(0.0), "", &cell_data)
 }
 
 /// Field data of every file: the time. Numbers only — meshio rejects `String` arrays (the
 /// stress sign convention is in `summary.json` and the docs).
-fn field_data(time: f64) -> String {
+pub(super) fn field_data(time: f64) -> String {
     format!(
         "\n<DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" format=\"ascii\">{time}</DataArray>\n"
     )
@@ -343,7 +348,7 @@ pub fn write_bolts(sys: &System, state: &Motion, path: &Path) -> Result<()> {
     bin.i64(&mut cell_data, "broken", 1, &broken);
     cell_data.push_str("</CellData>\n");
     let simple = SimpleCells { kind: VTK_LINE, connectivity: lines };
-    atomic::write(path, &simple.write(state.time, &points, &mut bin, &point_data, &cell_data))
+    simple.write(path, state.time, &points, bin, &point_data, &cell_data)
 }
 
 /// Cells of one kind with the same number of points each (contact vertices, bolt lines).
@@ -355,9 +360,17 @@ struct SimpleCells {
 }
 
 impl SimpleCells {
-    /// The `.vtu` file of these cells on `points`, with the arrays already declared in
+    /// Write the `.vtu` file of these cells on `points`, with the arrays already declared in
     /// `point_data` and `cell_data` (their values in `bin`).
-    fn write(&self, time: f64, points: &[Vec3], bin: &mut Appended, point_data: &str, cell_data: &str) -> Vec<u8> {
+    fn write(
+        &self,
+        path: &Path,
+        time: f64,
+        points: &[Vec3],
+        mut bin: Appended,
+        point_data: &str,
+        cell_data: &str,
+    ) -> Result<()> {
         let per = if self.kind == VTK_LINE { 2 } else { 1 };
         let m = self.connectivity.len() / per;
         let mut s = String::new();
@@ -369,14 +382,11 @@ impl SimpleCells {
         s.push_str("<Points>\n");
         bin.vec3(&mut s, "Points", points);
         s.push_str("</Points>\n<Cells>\n");
-        bin.i32(&mut s, "connectivity", &self.connectivity);
-        bin.i32(&mut s, "offsets", &(1..=m as i32).map(|k| per as i32 * k).collect::<Vec<_>>());
-        bin.u8(&mut s, "types", &vec![self.kind; m]);
-        s.push_str("</Cells>\n</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"base64\">\n_");
-        let mut out = s.into_bytes();
-        out.extend_from_slice(bin.data.as_bytes());
-        out.extend_from_slice(b"\n</AppendedData>\n</VTKFile>\n");
-        out
+        bin.array(&mut s, "Int32", "connectivity", 1, &self.connectivity);
+        bin.array(&mut s, "Int32", "offsets", 1, &(1..=m as i32).map(|k| per as i32 * k).collect::<Vec<_>>());
+        bin.array(&mut s, "UInt8", "types", 1, &vec![self.kind; m]);
+        s.push_str("</Cells>\n</Piece>\n</UnstructuredGrid>\n");
+        bin.write(path, &s)
     }
 }
 
@@ -396,7 +406,11 @@ mod tests {
             .map(|l| l.split("offset=\"").nth(1).unwrap().trim_end_matches("\"/>").parse().unwrap())
             .collect();
         assert_eq!(offsets[0], 0);
-        let block = |k: usize| BASE64.decode(&bin.data[offsets[k]..*offsets.get(k + 1).unwrap_or(&bin.data.len())]);
+        let mut data = Vec::new();
+        bin.encode(&mut data).unwrap();
+        let data = String::from_utf8(data).unwrap();
+        assert_eq!(data.len(), bin.chars);
+        let block = |k: usize| BASE64.decode(&data[offsets[k]..*offsets.get(k + 1).unwrap_or(&data.len())]);
         let gap = block(0).unwrap();
         assert_eq!(u64::from_le_bytes(gap[..8].try_into().unwrap()), 24);
         assert_eq!(f64::from_le_bytes(gap[16..24].try_into().unwrap()), -2.0);
@@ -405,5 +419,20 @@ mod tests {
             (u64::from_le_bytes(b[..8].try_into().unwrap()), i64::from_le_bytes(b[16..].try_into().unwrap())),
             (16, 8)
         );
+    }
+
+    /// A block longer than one encoding piece decodes to its values (the pieces are cut at
+    /// multiples of three bytes, so their concatenation is the block's encoding).
+    #[test]
+    fn a_long_block_is_encoded_whole() {
+        let (mut bin, mut xml) = (Appended::default(), String::new());
+        let v: Vec<f64> = (0..20_001).map(|i| i as f64 * 0.37 - 5.0).collect();
+        bin.f64(&mut xml, "long", 1, &v);
+        let mut data = Vec::new();
+        bin.encode(&mut data).unwrap();
+        assert_eq!(data.len(), bin.chars);
+        let bytes = BASE64.decode(&data).unwrap();
+        let back: Vec<f64> = bytes[8..].chunks(8).map(|c| f64::from_le_bytes(c.try_into().unwrap())).collect();
+        assert_eq!(back, v);
     }
 }

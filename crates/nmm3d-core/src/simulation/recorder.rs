@@ -8,7 +8,7 @@ use std::time::Instant;
 use crate::checkpoint::RecordSnapshot;
 use crate::error::Result;
 use crate::monitor::MonitorPlan;
-use crate::output::{cuts, tables, vtu};
+use crate::output::{cuts, frame, tables, vtu};
 use crate::scenario::Scenario;
 use crate::system::System;
 use crate::time::State;
@@ -123,7 +123,7 @@ impl Recorder {
         let (state, contacts) = (&whole.motion, whole.contact.as_ref());
         let k = self.frames.len();
         let name = format!("frames/blocks_{k:05}.vtu");
-        vtu::write_frame(sys, state, &self.out.join(&name))?;
+        frame::write_frame(sys, state, &self.out.join(&name))?;
         let contact_name = match contacts {
             Some(c) => {
                 let name = format!("frames/contacts_{k:05}.vtu");
