@@ -43,7 +43,8 @@ fn cantilever_tip_load_converges_monotonically() {
 
 /// Equilibrium with few factorisations: the Newton iterations of the static run are solved by
 /// PCG on an earlier factor (renewed once, when the beam's rotation has moved the tangent), and
-/// reach the same tip deflection as factorising at every iteration.
+/// reach the same tip deflection as factorising at every iteration. The last step finds the
+/// beam balanced at its start and solves nothing.
 #[test]
 fn cantilever_equilibrium_reuses_its_first_factor() {
     let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/cantilever.toml")).unwrap();
@@ -53,8 +54,9 @@ fn cantilever_equilibrium_reuses_its_first_factor() {
     let (a, b) = (final_value(&reused, "tip.displacement.z"), final_value(&direct, "tip.displacement.z"));
     assert!((a - b).abs() <= 1e-9 * b.abs(), "{a} against {b}");
     let (reused, direct) = (&reused.summary, &direct.summary);
-    assert_eq!(direct.factorizations, direct.steps);
-    assert!(direct.steps >= 3);
-    assert!(3 * reused.factorizations <= direct.factorizations, "{reused:?}");
-    assert_eq!(reused.krylov_solves + reused.factorizations, reused.steps);
+    assert_eq!(direct.factorizations, direct.steps - 1);
+    assert!(direct.steps >= 4);
+    // The first factor and its one renewal; every other iteration by PCG.
+    assert!(reused.factorizations <= 2 && reused.krylov_solves >= 3, "{reused:?}");
+    assert_eq!(reused.krylov_solves + reused.factorizations, reused.steps - 1);
 }

@@ -26,6 +26,15 @@ impl Stepper {
         residual
     }
 
+    /// [`Self::assemble`], or what `initialize` assembled if the displacements are still the
+    /// ones it saw (a run's first step: one element loop fewer).
+    pub(super) fn assembled(&mut self, sys: &System, state: &mut Motion) -> Vec<Vec3> {
+        match self.fresh.take() {
+            Some((u, residual)) if u == state.u => residual,
+            _ => self.assemble(sys, state),
+        }
+    }
+
     /// The unbalanced force at `state` under the loads of the step's start (`self.loads`),
     /// without a tangent: where a trial's end stands (see `super::equilibrate`).
     pub(super) fn residual_at(&self, sys: &System, state: &Motion) -> Vec<Vec3> {

@@ -18,7 +18,8 @@ use super::integrator::{Newmark, StepCoefficients};
 use super::setup::{contact_params, solver};
 use super::state::{State, StepperState};
 use super::step_control::{self, Verdict};
-use super::vectors::{gather, kinetic_energy, lumped_mass, mass_times, scale, scatter_into, solver_error};
+use super::vectors::{add_to, gather, kinetic_energy, lumped_mass, mass_times, scale, scatter_into, solver_error};
+use super::vectors::{balanced_static, unbalanced_ratio};
 use crate::contact::{overlap_problems, ContactHistory, ContactSurfaces};
 use crate::error::{Error, Result};
 use crate::scenario::AnalysisKind;
@@ -88,6 +89,9 @@ pub struct Stepper {
     pub(super) last_changes: Vec<(usize, usize)>,
     /// Each cover's lumped (row-summed) mass [kg]: the weights of the blocks' rigid fits.
     pub(super) lumped_mass: Vec<f64>,
+    /// The displacements `initialize` assembled at and the unbalanced force it found (taken
+    /// by the first step, see `assembled`).
+    pub(super) fresh: Option<(Vec<Vec3>, Vec<Vec3>)>,
 }
 
 impl Stepper {
@@ -124,6 +128,7 @@ impl Stepper {
             loads: Vec::new(),
             last_changes: Vec::new(),
             lumped_mass: lumped_mass(sys),
+            fresh: None,
         }
     }
 
@@ -162,6 +167,7 @@ impl Stepper {
     pub fn initialize(&mut self, sys: &System, whole: &mut State) -> Result<()> {
         let (state, run) = (&mut whole.motion, &mut whole.stepper);
         let mut residual = self.assemble(sys, state);
+        self.fresh = Some((state.u.clone(), residual.clone()));
         let base = shaking(sys, run).then(|| sys.base_force(sys.scenario.seismic.acceleration_after(state.time)));
         add_to(&mut residual, base.as_deref());
         run.force_scale = scale(sys, &residual).max(scale(sys, &self.loads));
@@ -197,7 +203,7 @@ impl Stepper {
         }
         self.ensure_contact_pattern(sys, contact.as_ref(), state.step);
         let t = Instant::now();
-        let residual = self.assemble(sys, state);
+        let residual = self.assembled(sys, state);
         // The unbalanced force at the start, contacts included: M a₀ of a dynamic step.
         let mut start_force = residual.clone();
         let seismic = &sys.scenario.seismic;
@@ -229,6 +235,11 @@ impl Stepper {
             // starts from the acceleration after it.
             dt = seismic.next_jump(state.time).map_or(dt, |b| dt.min(b - state.time));
             jump_acceleration(sys, state);
+        }
+        if balanced_static(sys, run, contact.is_some(), state.step, unbalanced) {
+            // Converged before this step's solve: the step is taken with no increment.
+            self.accept(sys, (state, run), &vec![Vec3::zeros(); residual.len()], dt);
+            return Ok(StepReport { dt, unbalanced, ..StepReport::default() });
         }
         let (mut cuts, mut trials, mut arrivals) = (0, 0, 0);
         let dynamic = run.inertia && !run.locked && analysis.kind != AnalysisKind::Static;
@@ -430,20 +441,4 @@ pub(super) struct Trial<'a> {
 /// after it).
 fn shaking(sys: &System, run: &StepperState) -> bool {
     !run.locked && sys.scenario.seismic.moves()
-}
-
-/// Unbalanced force ratio of `residual` (static equilibrium measure).
-fn unbalanced_ratio(sys: &System, run: &StepperState, residual: &[Vec3]) -> f64 {
-    if run.force_scale > 0.0 {
-        scale(sys, residual) / run.force_scale
-    } else {
-        0.0
-    }
-}
-
-/// `into += add`, when there is something to add.
-fn add_to(into: &mut [Vec3], add: Option<&[Vec3]>) {
-    if let Some(f) = add {
-        into.iter_mut().zip(f).for_each(|(x, f)| *x += f);
-    }
 }

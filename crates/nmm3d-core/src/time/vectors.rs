@@ -4,7 +4,9 @@
 
 use nmm3d_geom::Vec3;
 
+use super::state::StepperState;
 use crate::error::{Error, Pivot};
+use crate::scenario::AnalysisKind;
 use crate::solver::SolverFailure;
 use crate::system::System;
 
@@ -96,5 +98,30 @@ pub(super) fn solver_error(sys: &System, step: u64, failure: SolverFailure) -> E
             });
             Error::Solver { step, reason: "the system matrix is not positive definite".into(), pivot }
         }
+    }
+}
+
+/// Unbalanced force ratio of `residual` (static equilibrium measure).
+pub(super) fn unbalanced_ratio(sys: &System, run: &StepperState, residual: &[Vec3]) -> f64 {
+    if run.force_scale > 0.0 {
+        scale(sys, residual) / run.force_scale
+    } else {
+        0.0
+    }
+}
+
+/// Whether a static run without contacts is in equilibrium at the start of a step after its
+/// first (`step` taken so far): the run stops after this step, which then needs no solve —
+/// one Newton iteration of four saved on a continuum (a run with contacts still settles its
+/// contacts' states in the step).
+pub(super) fn balanced_static(sys: &System, run: &StepperState, contacts: bool, step: u64, unbalanced: f64) -> bool {
+    let a = &sys.scenario.analysis;
+    a.kind == AnalysisKind::Static && !run.locked && !contacts && step >= 1 && unbalanced <= a.equilibrium_tolerance
+}
+
+/// `into += add`, when there is something to add.
+pub(super) fn add_to(into: &mut [Vec3], add: Option<&[Vec3]>) {
+    if let Some(f) = add {
+        into.iter_mut().zip(f).for_each(|(x, f)| *x += f);
     }
 }
