@@ -65,3 +65,16 @@ def test_the_flagship_cantilever_on_multigrid_matches_the_direct_solve(tmp_path)
         assert r.completed and r.summary["linear_solver"] == solver
         tips[solver] = r.summary["final"]["tip.displacement.z"]
     assert tips["amg"] == pytest.approx(tips["direct"], rel=1e-6)
+
+
+def test_a_single_static_step_is_solved_to_the_multigrid_tolerance(tmp_path):
+    """Newton corrections are solved to `amg_newton_tolerance` (1e-3), the first one too — but
+    with `max_steps = 1` no iteration follows to correct it: that one solve goes to
+    `amg_tolerance` and matches the direct solve of the same step."""
+    direct = run(block(10, linear_solver="direct", max_steps=1), tmp_path, "direct")
+    amg = run(block(10, linear_solver="amg", max_steps=1), tmp_path, "amg")
+    loose = run(block(10, linear_solver="amg", max_steps=1, amg_tolerance=1e-3), tmp_path, "loose")
+    want = direct["final"]["top.displacement.z"]
+    error = {k: abs(s["final"]["top.displacement.z"] - want) / abs(want) for k, s in [("amg", amg), ("loose", loose)]}
+    assert direct["steps"] == amg["steps"] == 1
+    assert error["amg"] <= 1e-7 < error["loose"], error

@@ -40,12 +40,15 @@ fn linear_solver(sys: &System) -> Box<dyn LinearSolver> {
     }
     // A static equilibrium's Newton corrections need not be solved far beyond what the next
     // iteration corrects (inexact Newton: Dembo, Eisenstat & Steihaug, SIAM J. Numer. Anal. 19,
-    // 1982); its loop stops on the unbalanced force, whatever the solves left.
-    let nearby_tolerance = match a.kind {
-        AnalysisKind::Static => a.amg_tolerance.max(a.amg_newton_tolerance),
-        AnalysisKind::Dynamic => a.amg_tolerance,
+    // 1982); its loop stops on the unbalanced force, whatever the solves left. The first solve
+    // is such a correction too, unless `max_steps` leaves no next iteration.
+    let newton = a.amg_tolerance.max(a.amg_newton_tolerance);
+    let (tolerance, nearby_tolerance) = match a.kind {
+        AnalysisKind::Static if a.max_steps > 1 => (newton, newton),
+        AnalysisKind::Static => (a.amg_tolerance, newton),
+        AnalysisKind::Dynamic => (a.amg_tolerance, a.amg_tolerance),
     };
-    let params = AmgParams { tolerance: a.amg_tolerance, nearby_tolerance, ..AmgParams::default() };
+    let params = AmgParams { tolerance, nearby_tolerance, ..AmgParams::default() };
     Box::new(AmgSolver::new(positions, params))
 }
 
