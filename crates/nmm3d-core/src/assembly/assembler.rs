@@ -2,6 +2,8 @@
 //! precomputed per ME, so the hot loop is an indexed add. An ME with tied covers first maps
 //! its block through T (n × m weights over its m free masters): L' = Tᵀ L T.
 
+use rayon::prelude::*;
+
 use super::dof_map::DofMap;
 use super::sparsity::SparsityPattern;
 
@@ -43,27 +45,34 @@ pub fn masters_of(dofs: &DofMap, covers: &[usize]) -> (Vec<usize>, Option<Vec<f6
 }
 
 impl Assembler {
-    /// Maps for the given cover lists (one per ME).
+    /// Maps for the given cover lists (one per ME), made in parallel.
     pub fn new(pattern: SparsityPattern, dofs: &DofMap, elements: &[&[usize]]) -> Self {
+        let masters: Vec<(Vec<usize>, Option<Vec<f64>>)> = elements.par_iter().map(|c| masters_of(dofs, c)).collect();
         let mut offsets = Vec::with_capacity(elements.len() + 1);
-        let mut targets = Vec::new();
-        let mut transforms = Vec::with_capacity(elements.len());
-        for covers in elements {
-            offsets.push(targets.len());
-            let (masters, t) = masters_of(dofs, covers);
-            transforms.push(t.map(|t| (masters.len(), t)));
-            let eqs: Vec<Option<usize>> = masters.iter().flat_map(|&c| (0..3).map(move |i| dofs.eq(c, i))).collect();
-            for r in &eqs {
-                for c in &eqs {
-                    let t = match (r, c) {
-                        (Some(r), Some(c)) if r >= c => pattern.position(*r, *c).map_or(SKIP, |p| p as u32),
-                        _ => SKIP,
-                    };
-                    targets.push(t);
+        offsets.push(0);
+        for (m, _) in &masters {
+            offsets.push(offsets[offsets.len() - 1] + 9 * m.len() * m.len());
+        }
+        let mut targets = vec![SKIP; offsets[elements.len()]];
+        // Each ME's share of `targets`, filled independently.
+        let mut rest = targets.as_mut_slice();
+        let mut shares = Vec::with_capacity(elements.len());
+        for w in offsets.windows(2) {
+            let (share, tail) = std::mem::take(&mut rest).split_at_mut(w[1] - w[0]);
+            shares.push(share);
+            rest = tail;
+        }
+        shares.into_par_iter().zip(&masters).for_each(|(share, (m, _))| {
+            let eqs: Vec<Option<usize>> = m.iter().flat_map(|&c| (0..3).map(move |i| dofs.eq(c, i))).collect();
+            for (t, (r, c)) in share.iter_mut().zip(eqs.iter().flat_map(|r| eqs.iter().map(move |c| (r, c)))) {
+                if let (Some(r), Some(c)) = (r, c) {
+                    if r >= c {
+                        *t = pattern.position(*r, *c).map_or(SKIP, |p| p as u32);
+                    }
                 }
             }
-        }
-        offsets.push(targets.len());
+        });
+        let transforms = masters.into_iter().map(|(m, t)| t.map(|t| (m.len(), t))).collect();
         Self { pattern, offsets, targets, transforms }
     }
 

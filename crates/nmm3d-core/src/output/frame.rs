@@ -27,7 +27,7 @@ pub fn write_frame(sys: &System, state: &Motion, path: &Path) -> Result<()> {
             (shapes, stress_components(&corotation::element_stress(sys, state, e)))
         })
         .collect();
-    let mut cells = Cells::default();
+    let mut cells = Cells::with_capacity(elements.len());
     // Each point's element and own coordinates, in point order.
     let mut sources: Vec<(usize, Vec3)> = Vec::new();
     let (mut block_id, mut element_id, mut stress) = (Vec::new(), Vec::new(), Vec::new());

@@ -80,41 +80,72 @@ impl Shape {
 pub(super) struct Cells {
     pub points: Vec<Vec3>,
     keys: FxHashMap<[i64; 4], i32>,
-    /// Per cell: its distinct point ids, and its faces (count, then each face's size and ids).
-    cells: Vec<(Vec<i32>, Vec<i32>)>,
+    /// Each cell's distinct point ids, cell after cell; cell i's end at `conn_end[i]`.
+    conn: Vec<i32>,
+    conn_end: Vec<usize>,
+    /// Each cell's faces (count, then each face's size and point ids), cell after cell.
+    faces: Vec<i32>,
+    faces_end: Vec<usize>,
+    /// The point ids of the cell being added, vertex by vertex.
+    ids: Vec<i32>,
+}
+
+/// Cell `i`'s part of `flat`, whose cells end at `ends`.
+fn part<'a>(flat: &'a [i32], ends: &[usize], i: usize) -> &'a [i32] {
+    &flat[if i == 0 { 0 } else { ends[i - 1] }..ends[i]]
 }
 
 impl Cells {
+    /// Room for `cells` tetrahedron-like cells.
+    pub fn with_capacity(cells: usize) -> Self {
+        let mut c = Self::default();
+        c.conn_end.reserve(cells);
+        c.faces_end.reserve(cells);
+        c.conn.reserve(4 * cells);
+        c.faces.reserve(17 * cells);
+        c
+    }
+
     /// Add a cell; returns the indices (into `shape.verts`) of the vertices that created new
     /// points, in point order.
     pub fn add(&mut self, shape: &Shape) -> Vec<usize> {
         let mut created = Vec::new();
-        let ids: Vec<i32> = (shape.keys.iter().enumerate())
-            .map(|(k, key)| {
-                let next = self.keys.len() as i32;
-                match self.keys.entry(*key) {
-                    Entry::Occupied(o) => *o.get(),
-                    Entry::Vacant(v) => {
-                        created.push(k);
-                        *v.insert(next)
-                    }
+        self.ids.clear();
+        for (k, key) in shape.keys.iter().enumerate() {
+            let next = self.keys.len() as i32;
+            self.ids.push(match self.keys.entry(*key) {
+                Entry::Occupied(o) => *o.get(),
+                Entry::Vacant(v) => {
+                    created.push(k);
+                    *v.insert(next)
                 }
-            })
-            .collect();
+            });
+        }
         // Vertices of a sliver closer than the key's quantum are one point: list it once.
-        let mut conn = ids.clone();
-        conn.sort_unstable();
-        conn.dedup();
-        let mut faces = shape.faces.clone();
+        let start = self.conn.len();
+        self.conn.extend(&self.ids);
+        self.conn[start..].sort_unstable();
+        let mut kept = start;
+        for r in start..self.conn.len() {
+            if r == start || self.conn[r] != self.conn[kept - 1] {
+                self.conn[kept] = self.conn[r];
+                kept += 1;
+            }
+        }
+        self.conn.truncate(kept);
+        self.conn_end.push(kept);
+        let start = self.faces.len();
+        self.faces.extend_from_slice(&shape.faces);
+        let faces = &mut self.faces[start..];
         let mut i = 1;
         while i < faces.len() {
             let n = faces[i] as usize;
             for f in &mut faces[i + 1..=i + n] {
-                *f = ids[*f as usize];
+                *f = self.ids[*f as usize];
             }
             i += n + 1;
         }
-        self.cells.push((conn, faces));
+        self.faces_end.push(self.faces.len());
         created
     }
 
@@ -123,8 +154,8 @@ impl Cells {
     /// order, so any other order pairs cells with the wrong data; VTK does not care. Cell
     /// data arrays are permuted by [`permute`] with the same order.
     pub fn order(&self) -> Vec<usize> {
-        let mut order: Vec<usize> = (0..self.cells.len()).collect();
-        order.sort_by_key(|&i| self.cells[i].0.len());
+        let mut order: Vec<usize> = (0..self.conn_end.len()).collect();
+        order.sort_by_key(|&i| part(&self.conn, &self.conn_end, i).len());
         order
     }
 
@@ -139,12 +170,13 @@ impl Cells {
         point_data: &str,
         cell_data: &str,
     ) -> Result<()> {
-        let (mut conn, mut offsets, mut faces, mut face_offsets): (Vec<i32>, Vec<i32>, Vec<i32>, Vec<i32>) =
-            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let n = order.len();
+        let (mut conn, mut faces) = (Vec::with_capacity(self.conn.len()), Vec::with_capacity(self.faces.len()));
+        let (mut offsets, mut face_offsets) = (Vec::with_capacity(n), Vec::with_capacity(n));
         for &i in order {
-            conn.extend(&self.cells[i].0);
+            conn.extend_from_slice(part(&self.conn, &self.conn_end, i));
             offsets.push(conn.len() as i32);
-            faces.extend(&self.cells[i].1);
+            faces.extend_from_slice(part(&self.faces, &self.faces_end, i));
             face_offsets.push(faces.len() as i32);
         }
         let mut s = String::new();
