@@ -115,6 +115,16 @@ fn a_vibrating_cantilever_solved_by_multigrid_resumes_bit_identically() {
     assert!(solver.counts.krylov_solves >= 3, "{:?}", solver.counts);
 }
 
+/// A static equilibrium stopped between its Newton iterations: the next one keeps the
+/// factor's matrix (modified Newton) after the resume as it does in the whole run.
+#[test]
+fn a_static_equilibrium_on_a_kept_matrix_resumes_bit_identically() {
+    let text = common::example("hanging_bar.toml");
+    let mid = stopped_and_resumed_equals_whole("checkpoint_hanging_bar", &text, 2);
+    assert_eq!(mid.state.stepper.newton.last.map(|r| r > 0.0), Some(true));
+    assert!(mid.state.stepper.newton.on_source, "{:?}", mid.state.stepper.newton);
+}
+
 /// A checkpoint in version 1's layout: the motion alone in `state`, the contact points and the
 /// counters in `stepper`.
 fn as_version_1(current: &serde_json::Value) -> serde_json::Value {

@@ -106,6 +106,11 @@ impl ReusingSolver {
         Self { direct, reuse, source: None, pattern_changed: false, renew: false, counts: SolveCounts::default() }
     }
 
+    /// The values of the matrix the current factor (or hierarchy) was made of, on its pattern.
+    pub fn source_values(&self) -> Option<&[f64]> {
+        self.source.as_ref().map(|s| s.values.as_slice())
+    }
+
     /// Solve A x = `rhs` in place (A's lower triangle `values` on `pattern`); `nearby`: A may
     /// be solved by PCG on the last factor, if that factor's matrix was `nearby` too.
     pub fn solve(

@@ -17,10 +17,17 @@ impl Stepper {
     /// `self.loads` (the water pressure at the rotations of the last step); updates rotations.
     pub fn assemble(&mut self, sys: &System, state: &mut Motion) -> Vec<Vec3> {
         self.tangent.iter_mut().for_each(|v| *v = 0.0);
+        self.start_forces(sys, state, true)
+    }
+
+    /// The unbalanced force at the start of a step (the loads into `self.loads`, the rotations
+    /// updated), the tangent into `self.tangent` if `with_tangent`.
+    pub(super) fn start_forces(&mut self, sys: &System, state: &mut Motion, with_tangent: bool) -> Vec<Vec3> {
         let mut residual = sys.external.clone();
         super::water::add_water(sys, state, &mut residual);
         self.loads.clone_from(&residual);
-        for (e, r) in subtract_inner_forces(sys, state, &mut residual, Some(&mut self.tangent)) {
+        let tangent = with_tangent.then_some(&mut self.tangent);
+        for (e, r) in subtract_inner_forces(sys, state, &mut residual, tangent) {
             state.rotations[e] = r;
         }
         residual

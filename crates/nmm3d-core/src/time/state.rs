@@ -51,6 +51,22 @@ pub struct StepperState {
     /// next step's start forces.
     #[serde(default)]
     pub contact_end: Vec<Vec3>,
+    /// The Newton iterations of a static equilibrium so far (see `newton`).
+    #[serde(default)]
+    pub newton: NewtonState,
+}
+
+/// What the next Newton iteration of a static equilibrium goes by (see `newton`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct NewtonState {
+    /// Unbalanced force ratio at the start of the last iteration (`None` before one).
+    pub last: Option<f64>,
+    /// The last iteration solved with the matrix of the solver's factor (just factorised, or
+    /// kept): that matrix is the last tangent assembled.
+    pub on_source: bool,
+    /// An iteration reduced the unbalanced force by less than `KEEP_CONTRACTION`: a
+    /// geometrically nonlinear structure, whose iterations all assemble their tangent.
+    pub full: bool,
 }
 
 fn never_detected() -> f64 {
@@ -69,6 +85,7 @@ impl Default for StepperState {
             energy: None,
             undetected: 0.0,
             contact_end: Vec::new(),
+            newton: NewtonState::default(),
         }
     }
 }

@@ -18,12 +18,12 @@ use super::integrator::{Newmark, StepCoefficients};
 use super::setup::{contact_params, solver};
 use super::state::{State, StepperState};
 use super::step_control::{self, Verdict};
+use super::vectors::unbalanced_ratio;
 use super::vectors::{add_to, gather, kinetic_energy, lumped_mass, mass_times, scale, scatter_into, solver_error};
-use super::vectors::{balanced_static, unbalanced_ratio};
 use crate::contact::{overlap_problems, ContactHistory, ContactSurfaces};
 use crate::error::{Error, Result};
 use crate::scenario::AnalysisKind;
-use crate::solver::{ReusingSolver, SolveCounts};
+use crate::solver::ReusingSolver;
 use crate::state::Motion;
 use crate::system::System;
 
@@ -89,6 +89,8 @@ pub struct Stepper {
     pub(super) last_changes: Vec<(usize, usize)>,
     /// Each cover's lumped (row-summed) mass [kg]: the weights of the blocks' rigid fits.
     pub(super) lumped_mass: Vec<f64>,
+    /// The unbalanced force ratio at the start of this static step (see `newton`).
+    pub(super) newton_start: Option<f64>,
     /// The displacements `initialize` assembled at and the unbalanced force it found (taken
     /// by the first step, see `assembled`).
     pub(super) fresh: Option<(Vec<Vec3>, Vec<Vec3>)>,
@@ -128,38 +130,9 @@ impl Stepper {
             loads: Vec::new(),
             last_changes: Vec::new(),
             lumped_mass: lumped_mass(sys),
+            newton_start: None,
             fresh: None,
         }
-    }
-
-    /// The contact surfaces (`None` without contact).
-    pub fn contacts(&self) -> Option<&ContactSurfaces> {
-        self.contacts.as_ref()
-    }
-
-    /// Times the sparsity pattern grew for new contacts.
-    pub fn pattern_rebuilds(&self) -> u64 {
-        self.pattern.rebuilds
-    }
-
-    /// Stored entries of the current factor.
-    pub fn factor_nonzeros(&self) -> usize {
-        self.solver.factor_nonzeros()
-    }
-
-    /// The linear solver (what it did so far).
-    pub fn solver(&self) -> &ReusingSolver {
-        &self.solver
-    }
-
-    /// Factorisations and PCG solves so far.
-    pub fn solve_counts(&self) -> SolveCounts {
-        self.solver.counts
-    }
-
-    /// Symbolic and numeric factorisation seconds of the solver.
-    pub fn solver_timings(&self) -> (f64, f64) {
-        self.solver.timings()
     }
 
     /// The force scale of the unbalanced force ratio, and the initial acceleration
@@ -203,7 +176,7 @@ impl Stepper {
         }
         self.ensure_contact_pattern(sys, contact.as_ref(), state.step);
         let t = Instant::now();
-        let residual = self.assembled(sys, state);
+        let (residual, keep) = self.start_residual(sys, state, run, contact.is_some());
         // The unbalanced force at the start, contacts included: M a₀ of a dynamic step.
         let mut start_force = residual.clone();
         let seismic = &sys.scenario.seismic;
@@ -236,7 +209,7 @@ impl Stepper {
             dt = seismic.next_jump(state.time).map_or(dt, |b| dt.min(b - state.time));
             jump_acceleration(sys, state);
         }
-        if balanced_static(sys, run, contact.is_some(), state.step, unbalanced) {
+        if Self::balanced_static(sys, run, contact.is_some(), state.step, unbalanced) {
             // Converged before this step's solve: the step is taken with no increment.
             self.accept(sys, (state, run), &vec![Vec3::zeros(); residual.len()], dt);
             return Ok(StepReport { dt, unbalanced, ..StepReport::default() });
@@ -272,7 +245,7 @@ impl Stepper {
                 }
                 None => &residual,
             };
-            let trial = Trial { residual: trial_residual, mv: &mv, ma: &ma, k };
+            let trial = Trial { residual: trial_residual, mv: &mv, ma: &ma, k, keep };
             let (mut d, iterations, settled) = self.open_close(sys, (state, contact.as_mut()), &trial)?;
             let dmax = d.iter().map(|x| x.norm()).fold(0.0, f64::max);
             // Lagged verification, where the blocks may have moved into a contact unseen: not
@@ -357,6 +330,7 @@ impl Stepper {
                         .map(|((d, f0), f1)| 0.5 * d.dot(&(f0 + f1)))
                         .sum();
                     run.contact_end = contact_end;
+                    self.newton_end(run);
                     state.dt = step_control::next_dt(analysis, dt, ratio);
                     // M a₀: the scheme's acceleration at the start (the last step's end), except at
                     // the first step, where the unbalanced force stands for it.
@@ -435,6 +409,8 @@ pub(super) struct Trial<'a> {
     pub(super) mv: &'a [Vec3],
     pub(super) ma: &'a [Vec3],
     pub(super) k: StepCoefficients,
+    /// Solve with the matrix of the solver's factor, not the step's tangent (see `newton`).
+    pub(super) keep: bool,
 }
 
 /// Whether the base shakes now (not while the initial equilibrium settles: the shaking starts

@@ -67,9 +67,12 @@ impl Stepper {
         (state, contact): (&Motion, Option<&ContactHistory>),
         trial: &Trial,
     ) -> Result<Vec<Vec3>> {
-        let Trial { residual, mv, ma, k } = *trial;
+        let Trial { residual, mv, ma, k, keep } = *trial;
         let t = Instant::now();
-        self.pattern.combine(sys, (1.0, &self.tangent), (k.c0, &sys.mass_values), &mut self.values);
+        match self.solver.source_values().filter(|v| keep && v.len() == self.values.len()) {
+            Some(kept) => self.values.copy_from_slice(kept),
+            None => self.pattern.combine(sys, (1.0, &self.tangent), (k.c0, &sys.mass_values), &mut self.values),
+        }
         let mut contact_force = vec![Vec3::zeros(); residual.len()];
         // Only a matrix without contact springs is reused (see `solver::reuse`).
         let nearby = !contact.is_some_and(ContactHistory::any_closed);

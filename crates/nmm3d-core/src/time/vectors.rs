@@ -6,7 +6,6 @@ use nmm3d_geom::Vec3;
 
 use super::state::StepperState;
 use crate::error::{Error, Pivot};
-use crate::scenario::AnalysisKind;
 use crate::solver::SolverFailure;
 use crate::system::System;
 
@@ -108,15 +107,6 @@ pub(super) fn unbalanced_ratio(sys: &System, run: &StepperState, residual: &[Vec
     } else {
         0.0
     }
-}
-
-/// Whether a static run without contacts is in equilibrium at the start of a step after its
-/// first (`step` taken so far): the run stops after this step, which then needs no solve —
-/// one Newton iteration of four saved on a continuum (a run with contacts still settles its
-/// contacts' states in the step).
-pub(super) fn balanced_static(sys: &System, run: &StepperState, contacts: bool, step: u64, unbalanced: f64) -> bool {
-    let a = &sys.scenario.analysis;
-    a.kind == AnalysisKind::Static && !run.locked && !contacts && step >= 1 && unbalanced <= a.equilibrium_tolerance
 }
 
 /// `into += add`, when there is something to add.

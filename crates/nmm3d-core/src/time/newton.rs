@@ -1,0 +1,83 @@
+//! The Newton iterations of a static equilibrium (a static analysis's steps, without contacts):
+//! a step that finds the run balanced at its start solves nothing, and a step after an
+//! iteration that reduced the unbalanced force well solves with the matrix of the solver's
+//! last factor instead of a new tangent (modified Newton: Bathe, *Finite Element Procedures*,
+//! 2nd ed., 2014, §8.4.1; Crisfield, *Non-linear Finite Element Analysis of Solids and
+//! Structures* 1, 1991, §9.1) — no tangent assembled, and the solve needs no new matrix.
+
+use nmm3d_geom::Vec3;
+
+use super::state::StepperState;
+use super::stepper::Stepper;
+use super::vectors::unbalanced_ratio;
+use crate::scenario::AnalysisKind;
+use crate::state::Motion;
+use crate::system::System;
+
+/// The unbalanced force must have fallen at least this much (×) over the last iteration for
+/// the next to keep its matrix, and over every iteration of the run: the tangent still
+/// describes the structure (the 10⁵-ME block gains 30× and 10³× per iteration; a cantilever
+/// turning by large rotations once loses, and assembles every tangent from then on).
+pub const KEEP_CONTRACTION: f64 = 0.1;
+
+/// Whether the run's steps are Newton iterations of a static equilibrium without contacts.
+fn static_newton(sys: &System, run: &StepperState, contacts: bool) -> bool {
+    sys.scenario.analysis.kind == AnalysisKind::Static && !run.locked && !contacts
+}
+
+impl Stepper {
+    /// Whether a static run without contacts is in equilibrium at the start of a step after its
+    /// first (`step` taken so far): the run stops after this step, which then needs no solve —
+    /// one Newton iteration of four saved on a continuum (a run with contacts still settles its
+    /// contacts' states in the step).
+    pub(super) fn balanced_static(
+        sys: &System,
+        run: &StepperState,
+        contacts: bool,
+        step: u64,
+        unbalanced: f64,
+    ) -> bool {
+        let a = &sys.scenario.analysis;
+        static_newton(sys, run, contacts) && step >= 1 && unbalanced <= a.equilibrium_tolerance
+    }
+
+    /// The unbalanced force at the start of a step, and whether its solve keeps the matrix of
+    /// the solver's factor (modified Newton): a Newton iteration of a static equilibrium
+    /// (factor reuse on) after one that solved with that matrix and cut the unbalanced force
+    /// by [`KEEP_CONTRACTION`], in a run where no iteration yet did worse. Otherwise the
+    /// tangent is assembled as usual.
+    pub(super) fn start_residual(
+        &mut self,
+        sys: &System,
+        state: &mut Motion,
+        run: &mut StepperState,
+        contacts: bool,
+    ) -> (Vec<Vec3>, bool) {
+        self.newton_start = None;
+        if !static_newton(sys, run, contacts) {
+            return (self.assembled(sys, state), false);
+        }
+        let prev = run.newton;
+        let reusable = sys.scenario.analysis.factor_reuse && self.solver.source_values().is_some();
+        let may_keep = prev.on_source && !prev.full && reusable;
+        let mut residual = if may_keep { self.start_forces(sys, state, false) } else { self.assembled(sys, state) };
+        let ratio = unbalanced_ratio(sys, run, &residual);
+        let contracted = prev.last.is_none_or(|last| ratio <= KEEP_CONTRACTION * last);
+        run.newton.full |= !contracted;
+        let keep = may_keep && contracted && prev.last.is_some();
+        if may_keep && !keep {
+            residual = self.assembled(sys, state);
+        }
+        self.newton_start = Some(unbalanced_ratio(sys, run, &residual));
+        (residual, keep)
+    }
+
+    /// Record this step as a Newton iteration of a static equilibrium (if it was one): its
+    /// start ratio, and whether it solved with the matrix of the solver's factor.
+    pub(super) fn newton_end(&mut self, run: &mut StepperState) {
+        if let Some(ratio) = self.newton_start.take() {
+            run.newton.last = Some(ratio);
+            run.newton.on_source = self.solver.source_values() == Some(self.values.as_slice());
+        }
+    }
+}
