@@ -15,9 +15,10 @@ use crate::state::Motion;
 use crate::system::System;
 
 /// The unbalanced force must have fallen at least this much (×) over the last iteration for
-/// the next to keep its matrix, and over every iteration of the run: the tangent still
-/// describes the structure (the 10⁵-ME block gains 30× and 10³× per iteration; a cantilever
-/// turning by large rotations once loses, and assembles every tangent from then on).
+/// the next to keep its matrix, and over every iteration of the run after the first: the
+/// tangent still describes the structure (the 10⁵-ME block gains 30× and 10³× per iteration;
+/// a cantilever turning by large rotations ends its first with 2.8× the force it started
+/// with, and assembles every tangent from then on).
 pub const KEEP_CONTRACTION: f64 = 0.1;
 
 /// Whether the run's steps are Newton iterations of a static equilibrium without contacts.
@@ -43,9 +44,10 @@ impl Stepper {
 
     /// The unbalanced force at the start of a step, and whether its solve keeps the matrix of
     /// the solver's factor (modified Newton): a Newton iteration of a static equilibrium
-    /// (factor reuse on) after one that solved with that matrix and cut the unbalanced force
-    /// by [`KEEP_CONTRACTION`], in a run where no iteration yet did worse. Otherwise the
-    /// tangent is assembled as usual.
+    /// (factor reuse on) after one that cut the unbalanced force by [`KEEP_CONTRACTION`], in a
+    /// run where no iteration did worse — the first one, which starts from the unloaded state
+    /// with a loose solve, only if it increased the force. Otherwise the tangent is assembled
+    /// as usual.
     pub(super) fn start_residual(
         &mut self,
         sys: &System,
@@ -59,12 +61,15 @@ impl Stepper {
         }
         let prev = run.newton;
         let reusable = sys.scenario.analysis.factor_reuse && self.solver.source_values().is_some();
-        let may_keep = prev.on_source && !prev.full && reusable;
+        let may_keep = !prev.full && reusable && prev.last.is_some();
         let mut residual = if may_keep { self.start_forces(sys, state, false) } else { self.assembled(sys, state) };
         let ratio = unbalanced_ratio(sys, run, &residual);
-        let contracted = prev.last.is_none_or(|last| ratio <= KEEP_CONTRACTION * last);
-        run.newton.full |= !contracted;
-        let keep = may_keep && contracted && prev.last.is_some();
+        let mut keep = false;
+        if let Some(last) = prev.last {
+            let bound = if prev.iterations == 1 { 1.0 } else { KEEP_CONTRACTION };
+            run.newton.full |= ratio > bound * last;
+            keep = may_keep && !run.newton.full && ratio <= KEEP_CONTRACTION * last;
+        }
         if may_keep && !keep {
             residual = self.assembled(sys, state);
         }
@@ -72,12 +77,11 @@ impl Stepper {
         (residual, keep)
     }
 
-    /// Record this step as a Newton iteration of a static equilibrium (if it was one): its
-    /// start ratio, and whether it solved with the matrix of the solver's factor.
+    /// Record this step as a Newton iteration of a static equilibrium (if it was one).
     pub(super) fn newton_end(&mut self, run: &mut StepperState) {
         if let Some(ratio) = self.newton_start.take() {
             run.newton.last = Some(ratio);
-            run.newton.on_source = self.solver.source_values() == Some(self.values.as_slice());
+            run.newton.iterations += 1;
         }
     }
 }

@@ -61,11 +61,11 @@ pub struct StepperState {
 pub struct NewtonState {
     /// Unbalanced force ratio at the start of the last iteration (`None` before one).
     pub last: Option<f64>,
-    /// The last iteration solved with the matrix of the solver's factor (just factorised, or
-    /// kept): that matrix is the last tangent assembled.
-    pub on_source: bool,
-    /// An iteration reduced the unbalanced force by less than `KEEP_CONTRACTION`: a
-    /// geometrically nonlinear structure, whose iterations all assemble their tangent.
+    /// Iterations so far.
+    pub iterations: u64,
+    /// An iteration after the first reduced the unbalanced force by less than
+    /// `KEEP_CONTRACTION`, or the first increased it: a geometrically nonlinear structure,
+    /// whose iterations all assemble their tangent.
     pub full: bool,
 }
 
