@@ -52,19 +52,30 @@ impl LittleEndian for Mat3 {
     }
 }
 
-/// Base64 of the values' bytes, written in pieces of a multiple of three bytes (so the
-/// pieces' encodings are the whole array's).
+/// Base64 of `bytes` handed to `sink` piece by piece, each piece a multiple of three bytes but
+/// the last (so the pieces' encodings join into the whole's).
+pub fn base64_pieces<E>(bytes: &[u8], mut sink: impl FnMut(&str) -> Result<(), E>) -> Result<(), E> {
+    const PIECE: usize = 3 << 14;
+    let mut text = vec![0u8; bytes.len().min(PIECE).div_ceil(3) * 4];
+    for piece in bytes.chunks(PIECE) {
+        let n = BASE64.encode_slice(piece, &mut text).expect("the buffer holds a piece's encoding");
+        sink(std::str::from_utf8(&text[..n]).expect("base64 is ASCII"))?;
+    }
+    Ok(())
+}
+
+/// Base64 of the values' bytes, converted and written a few thousand values at a time.
 pub struct Base64Of<'a, T>(pub &'a [T]);
 
 impl<T: LittleEndian> fmt::Display for Base64Of<'_, T> {
     fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        // A multiple of three values: every piece's bytes a multiple of three.
         const VALUES: usize = 3 << 10;
-        let (mut bytes, mut text) = (Vec::with_capacity(VALUES * T::SIZE), vec![0u8; VALUES * T::SIZE / 3 * 4]);
+        let mut bytes = Vec::with_capacity(VALUES * T::SIZE);
         for piece in self.0.chunks(VALUES) {
             bytes.clear();
             piece.iter().for_each(|v| v.put(&mut bytes));
-            let n = BASE64.encode_slice(&bytes, &mut text).expect("the buffer holds a piece's encoding");
-            f.write_str(std::str::from_utf8(&text[..n]).expect("base64 is ASCII"))?;
+            base64_pieces(&bytes, |s| f.write_str(s))?;
         }
         Ok(())
     }

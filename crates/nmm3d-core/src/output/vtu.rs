@@ -12,8 +12,6 @@
 //! (from B to A), normal force (compression positive), shear force (vector), state (0 open,
 //! 1 stick, 2 slide), gap, area, mode (0 vertex of A, 1 vertex of B, 2 edge–edge) and blocks.
 
-use base64::engine::general_purpose::STANDARD as BASE64;
-use base64::Engine as _;
 use rustc_hash::FxHashMap;
 use std::collections::hash_map::Entry;
 use std::fmt::Write as _;
@@ -25,7 +23,7 @@ use nmm3d_geom::{ConvexPolyhedron, Vec3};
 use super::atomic;
 use crate::contact::ContactRecord;
 use crate::error::Result;
-use crate::packed::LittleEndian;
+use crate::packed::{base64_pieces, LittleEndian};
 use crate::state::Motion;
 use crate::system::System;
 use nmm3d_geom::contact::Mode;
@@ -238,15 +236,7 @@ impl Appended {
     /// Each block base64-encoded on its own, in pieces of a multiple of three bytes (so the
     /// pieces' encodings are the whole block's).
     fn encode(&self, w: &mut dyn Write) -> std::io::Result<()> {
-        const PIECE: usize = 3 << 14;
-        let mut buf = vec![0u8; PIECE / 3 * 4];
-        for block in &self.blocks {
-            for piece in block.chunks(PIECE) {
-                let n = BASE64.encode_slice(piece, &mut buf).expect("the buffer holds a piece's encoding");
-                w.write_all(&buf[..n])?;
-            }
-        }
-        Ok(())
+        self.blocks.iter().try_for_each(|block| base64_pieces(block, |s| w.write_all(s.as_bytes())))
     }
 
     /// Write the file: `head` (the XML up to the appended data), then the blocks.
@@ -425,6 +415,8 @@ impl SimpleCells {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use base64::engine::general_purpose::STANDARD as BASE64;
+    use base64::Engine as _;
 
     /// Each declared array's offset points at its own base64 block: the byte count, then the
     /// values (what VTK and meshio decode from that offset).

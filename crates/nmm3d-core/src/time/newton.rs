@@ -55,7 +55,6 @@ impl Stepper {
         run: &mut StepperState,
         contacts: bool,
     ) -> (Vec<Vec3>, bool) {
-        self.newton_start = None;
         if !static_newton(sys, run, contacts) {
             return (self.assembled(sys, state), false);
         }
@@ -63,7 +62,7 @@ impl Stepper {
         let reusable = sys.scenario.analysis.factor_reuse && self.solver.source_values().is_some();
         let may_keep = !prev.full && reusable && prev.last.is_some();
         let mut residual = if may_keep { self.start_forces(sys, state, false) } else { self.assembled(sys, state) };
-        let ratio = unbalanced_ratio(sys, run, &residual);
+        let mut ratio = unbalanced_ratio(sys, run, &residual);
         let mut keep = false;
         if let Some(last) = prev.last {
             let bound = if prev.iterations == 1 { 1.0 } else { KEEP_CONTRACTION };
@@ -72,16 +71,11 @@ impl Stepper {
         }
         if may_keep && !keep {
             residual = self.assembled(sys, state);
+            ratio = unbalanced_ratio(sys, run, &residual);
         }
-        self.newton_start = Some(unbalanced_ratio(sys, run, &residual));
+        // This iteration as the next judges it (a static step is accepted or ends the run; its
+        // cuts retry from here, not from its start).
+        (run.newton.last, run.newton.iterations) = (Some(ratio), run.newton.iterations + 1);
         (residual, keep)
-    }
-
-    /// Record this step as a Newton iteration of a static equilibrium (if it was one).
-    pub(super) fn newton_end(&mut self, run: &mut StepperState) {
-        if let Some(ratio) = self.newton_start.take() {
-            run.newton.last = Some(ratio);
-            run.newton.iterations += 1;
-        }
     }
 }

@@ -89,8 +89,6 @@ pub struct Stepper {
     pub(super) last_changes: Vec<(usize, usize)>,
     /// Each cover's lumped (row-summed) mass [kg]: the weights of the blocks' rigid fits.
     pub(super) lumped_mass: Vec<f64>,
-    /// The unbalanced force ratio at the start of this static step (see `newton`).
-    pub(super) newton_start: Option<f64>,
     /// The displacements `initialize` assembled at and the unbalanced force it found (taken
     /// by the first step, see `assembled`).
     pub(super) fresh: Option<(Vec<Vec3>, Vec<Vec3>)>,
@@ -130,7 +128,6 @@ impl Stepper {
             loads: Vec::new(),
             last_changes: Vec::new(),
             lumped_mass: lumped_mass(sys),
-            newton_start: None,
             fresh: None,
         }
     }
@@ -330,7 +327,6 @@ impl Stepper {
                         .map(|((d, f0), f1)| 0.5 * d.dot(&(f0 + f1)))
                         .sum();
                     run.contact_end = contact_end;
-                    self.newton_end(run);
                     state.dt = step_control::next_dt(analysis, dt, ratio);
                     // M a₀: the scheme's acceleration at the start (the last step's end), except at
                     // the first step, where the unbalanced force stands for it.
