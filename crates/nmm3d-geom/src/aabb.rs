@@ -48,4 +48,25 @@ impl Aabb {
     pub fn overlaps(&self, o: &Self) -> bool {
         (0..3).all(|i| self.min[i] <= o.max[i] && o.min[i] <= self.max[i])
     }
+
+    /// The largest gap between the two boxes along an axis (negative when they overlap): a
+    /// lower bound of the distance between any two bodies inside them.
+    pub fn separation(&self, o: &Self) -> f64 {
+        (0..3).map(|i| (self.min[i] - o.max[i]).max(o.min[i] - self.max[i])).fold(f64::NEG_INFINITY, f64::max)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn separation_is_the_widest_axis_gap_and_negative_on_overlap() {
+        let a = Aabb { min: Vec3::new(0.0, 0.0, 0.0), max: Vec3::new(1.0, 1.0, 1.0) };
+        let b = Aabb { min: Vec3::new(1.5, 0.2, 3.0), max: Vec3::new(2.0, 0.8, 4.0) };
+        assert_eq!(a.separation(&b), 2.0);
+        assert_eq!(b.separation(&a), 2.0);
+        let c = Aabb { min: Vec3::new(0.5, 0.5, 0.9), max: Vec3::new(2.0, 2.0, 2.0) };
+        assert!((a.separation(&c) + 0.1).abs() < 1e-15);
+    }
 }

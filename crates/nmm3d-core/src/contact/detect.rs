@@ -9,7 +9,7 @@ use rayon::prelude::*;
 use rustc_hash::{FxHashMap, FxHashSet};
 
 use nmm3d_geom::contact::{detect_prepared, Contact, ContactPoint, DetectParams, Prepared};
-use nmm3d_geom::{ConvexPolyhedron, Vec3};
+use nmm3d_geom::{Aabb, ConvexPolyhedron, Vec3};
 
 use super::facets::{self, Candidate};
 use super::history::ContactHistory;
@@ -40,8 +40,10 @@ impl ContactSurfaces {
 
     /// Re-detect the points of `h` on the current geometry; transfer state, shear, preload and
     /// bond from the previous points. `initial`: the first detection, where touching points
-    /// take the in-situ traction and the joint's bond.
-    pub fn detect(&mut self, sys: &System, state: &Motion, h: &mut ContactHistory, initial: bool) {
+    /// take the in-situ traction and the joint's bond. `reach` [m]: how far a point may move in
+    /// the coming step (infinite: as far as the step control allows); pairs farther apart than
+    /// twice it get no points — the lagged verification adds those that arrive all the same.
+    pub fn detect(&mut self, sys: &System, state: &Motion, h: &mut ContactHistory, (initial, reach): (bool, f64)) {
         let clock = Instant::now();
         let current: Vec<_> = self.pieces.par_iter().map(|p| p.current(sys, state)).collect();
         let p = h.params;
@@ -52,14 +54,20 @@ impl ContactSurfaces {
         let pairs = h.warning.update(&current, p.margin, p.skin, keep).to_vec();
         self.times.warning += clock.elapsed().as_secs_f64();
         let clock = Instant::now();
-        // Pairs whose blocks have not moved against each other by the tolerance since their
-        // last detection keep their points (`travel`); the others are detected again.
-        let candidates: FxHashSet<(usize, usize)> = pairs.iter().map(|&q| self.blocks_of(q)).collect();
+        // Only pairs whose boxes lie within this step's margin can have points (the warning
+        // list's margin is the widest step's). Of those, pairs whose blocks have not moved
+        // against each other by the tolerance since their last detection keep their points
+        // (`travel`); the others are detected again.
+        let narrow = ContactParams { margin: p.margin.min(p.tolerance + (2.0 * reach).max(p.tolerance)), ..p };
+        let boxes: Vec<Aabb> = current.par_iter().map(ConvexPolyhedron::aabb).collect();
+        let near: Vec<Pair> =
+            pairs.into_iter().filter(|&(i, j)| boxes[i].separation(&boxes[j]) <= narrow.margin).collect();
+        let candidates: FxHashSet<(usize, usize)> = near.iter().map(|&q| self.blocks_of(q)).collect();
         h.travel.retain(|q| candidates.contains(q));
-        let moved = |q: &(usize, usize)| initial || h.travel.since(self.blocks_of(*q), None) >= p.tolerance;
-        let redo: Vec<(usize, usize)> = pairs.iter().copied().filter(moved).collect();
-        let kept: FxHashSet<(usize, usize)> = pairs.iter().filter(|q| !moved(q)).map(|&q| self.blocks_of(q)).collect();
-        let found = self.find(sys, state, &current, &p, (&redo, f64::NEG_INFINITY));
+        let (redo, stay): (Vec<Pair>, Vec<Pair>) =
+            near.iter().partition(|&&q| initial || h.travel.since(self.blocks_of(q), None) >= p.tolerance);
+        let kept: FxHashSet<(usize, usize)> = stay.iter().map(|&q| self.blocks_of(q)).collect();
+        let found = self.find(sys, state, (&current, &boxes), &narrow, (&redo, f64::NEG_INFINITY));
         let previous = std::mem::take(&mut h.records);
         let mut by_pair: FxHashMap<(usize, usize), Vec<usize>> = FxHashMap::default();
         for (k, r) in previous.iter().enumerate() {
@@ -105,7 +113,7 @@ impl ContactSurfaces {
         &self,
         sys: &System,
         state: &Motion,
-        current: &[ConvexPolyhedron],
+        (current, boxes): (&[ConvexPolyhedron], &[Aabb]),
         p: &ContactParams,
         (pairs, overlap): (&[(usize, usize)], f64),
     ) -> Vec<(usize, usize, Vec3, Vec<Candidate>)> {
@@ -121,6 +129,10 @@ impl ContactSurfaces {
             .par_iter()
             .map(|&(i, j)| if pieces[i].block > pieces[j].block { (i, j) } else { (j, i) })
             .filter_map(|(i, j)| {
+                // Boxes apart by more hold pieces apart by more.
+                if boxes[i].separation(&boxes[j]) > p.margin.min(-overlap) {
+                    return None;
+                }
                 let c = detect_prepared(prepared_of(i), prepared_of(j), &dp).filter(|c| c.separation <= -overlap)?;
                 let on = Surfaces {
                     pieces: (&pieces[i], &pieces[j]),
@@ -152,13 +164,16 @@ impl ContactSurfaces {
         let trial: Vec<Vec3> = end.u.iter().zip(&start.u).map(|(e, s)| e - s).collect();
         let moved = Travel::per_block(sys, &trial);
         let p = h.params;
-        let pairs: Vec<(usize, usize)> = (h.warning.pairs.iter().copied())
-            .filter(|&q| h.travel.since(self.blocks_of(q), Some(&moved)) >= p.tolerance)
-            .collect();
         // Only pairs overlapping can have a point that arrived deeper than the tolerance (half
         // of it: the points' gaps are measured between material points, the separation between
-        // the pieces' faces).
-        let found = self.find(sys, end, &current, &p, (&pairs, 0.5 * p.tolerance));
+        // the pieces' faces) — their boxes overlap by as much.
+        let overlap = 0.5 * p.tolerance;
+        let boxes: Vec<Aabb> = current.par_iter().map(ConvexPolyhedron::aabb).collect();
+        let pairs: Vec<(usize, usize)> = (h.warning.pairs.iter().copied())
+            .filter(|&(i, j)| boxes[i].separation(&boxes[j]) <= -overlap)
+            .filter(|&q| h.travel.since(self.blocks_of(q), Some(&moved)) >= p.tolerance)
+            .collect();
+        let found = self.find(sys, end, (&current, &boxes), &p, (&pairs, overlap));
         let reach = REACH * p.tolerance;
         let mut added = Vec::new();
         for (i, j, normal, points) in found {
@@ -208,6 +223,9 @@ impl ContactRecord {
         self.limit = self.coulomb_limit(gap);
     }
 }
+
+/// Two pieces (indices into the contact surfaces).
+type Pair = (usize, usize);
 
 fn both_fixed(sys: &System, a: usize, b: usize) -> bool {
     sys.geometry.blocks[a].fixed && sys.geometry.blocks[b].fixed

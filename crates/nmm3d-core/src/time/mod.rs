@@ -12,6 +12,7 @@ pub mod energy;
 mod equilibrate;
 pub mod integrator;
 mod newton;
+mod reach;
 mod residual;
 pub mod settle;
 mod setup;

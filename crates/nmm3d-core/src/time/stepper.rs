@@ -102,7 +102,7 @@ impl Stepper {
         let mut stepper = Self::on_model(sys);
         state.contact = stepper.contacts.as_ref().map(|_| ContactHistory::new(contact_params(sys)));
         if let (Some(c), Some(h)) = (stepper.contacts.as_mut(), state.contact.as_mut()) {
-            c.detect(sys, &state.motion, h, true);
+            c.detect(sys, &state.motion, h, (true, f64::INFINITY));
             let problems = overlap_problems(sys, h, sys.scenario.contact.overlap_tolerance * sys.covers.mesh().size);
             if !problems.is_empty() {
                 return Err(Error::Scenario { file: label.to_string(), problems });
@@ -167,7 +167,8 @@ impl Stepper {
             if run.undetected < h.params.tolerance {
                 h.refresh(sys, state);
             } else {
-                c.detect(sys, state, h, false);
+                let reach = Self::reach(sys, (state, run), state.dt.min(dt_cap));
+                c.detect(sys, state, h, (false, reach));
                 run.undetected = 0.0;
             }
         }
