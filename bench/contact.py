@@ -162,10 +162,10 @@ def packed_section(rows: list[dict]) -> list[str]:
         return []
     out = ["## A packed pile: a web of contacts", "",
            "The same cubes touching side to side and on each other, the whole pile 2 mm above the",
-           "floor (`--packed-sizes`): every block is coupled to its six neighbours, as in a jointed",
-           "rock mass, and the direct factor of that three-dimensional web fills as N^(4/3) and costs",
-           "N² (George 1973; Lipton, Rose & Tarjan 1979) — the limit of the direct solver for",
-           "contact, measured:", "",
+           "floor (`--packed-sizes`): every block touches its neighbours (across faces, edges and",
+           "corners) and its springs couple all its covers to all of theirs, as in a jointed rock mass.",
+           "The direct factor of that three-dimensional web fills as N^(4/3) and costs N² (George",
+           "1973; Lipton, Rose & Tarjan 1979) — the limit of the direct solver for contact, measured:", "",
            "| N | MEs | equations | contact points | open–close iterations | pattern rebuilds | factor entries | factorisation [ms/step] | whole step [ms] |",
            "|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for r in rows:
