@@ -320,6 +320,9 @@ pub struct ContactSpec {
     /// Skin of the warning (candidate pair) list as a multiple of the detection margin [-]
     /// (addition).
     pub warning_skin: f64,
+    /// A dynamic step detects within tolerance + 2 × this × the reach its start predicts
+    /// (|v| Δt + (|a| + |g|) Δt², `time/reach.rs`), at most within the full margin [-] (addition).
+    pub reach_safety: f64,
     /// Blocks overlapping deeper than this fraction of the cover size at the start are invalid
     /// input [-] (addition).
     pub overlap_tolerance: f64,
@@ -369,6 +372,7 @@ impl Default for ContactSpec {
             auto_penalty_factor: 10.0,
             tolerance_ratio: 1e-3,
             warning_skin: 2.0,
+            reach_safety: 4.0,
             overlap_tolerance: 1e-3,
             penalty_raise: 10.0,
             max_penalty_raises: 3,

@@ -59,6 +59,7 @@ pub fn problems(s: &Scenario) -> Vec<Problem> {
         ("auto_penalty_factor", k.auto_penalty_factor),
         ("tolerance_ratio", k.tolerance_ratio),
         ("warning_skin", k.warning_skin),
+        ("reach_safety", k.reach_safety),
         ("overlap_tolerance", k.overlap_tolerance),
         ("gap_band", k.gap_band),
         ("reclose_depth", k.reclose_depth),
