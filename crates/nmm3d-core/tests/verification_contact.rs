@@ -1,6 +1,6 @@
 //! Verification of the contact algorithm beyond the incline: joint strength (cohesion, tensile
 //! strength), in-situ stress as joint traction (roof wedge, case C1), stacked blocks at rest,
-//! impact (i) and collision, and overlapping input.
+//! impact (i) and collision, overlapping input, and the detection margin of a moving step.
 
 mod common;
 
@@ -487,9 +487,10 @@ fn an_open_close_iteration_that_cannot_settle_fails_the_run_with_its_reason() {
     assert!(dir.join("summary.json").exists() && dir.join("history.csv").exists() && dir.join("result.pvd").exists());
 }
 
-/// Two 1 m cubes resting on a fixed base, their facing sides `gap` apart; `steps` steps.
-fn side_by_side(gap: f64, name: &str) -> RunOutcome {
-    let bodies = format!(
+/// A fixed base and two 1 m cubes on it, "left" and "right", their facing sides `gap` apart;
+/// `left` adds keys to the left cube (e.g. its velocity).
+fn two_cubes(gap: f64, left: &str) -> String {
+    format!(
         r#"
 [[body]]
 name = "base"
@@ -501,6 +502,7 @@ shape = {{ box = {{ min = [-2.0, -2.0, -1.0], max = [4.0, 2.0, 0.0] }} }}
 name = "left"
 material = "rock"
 joint = "j"
+{left}
 shape = {{ box = {{ min = [-1.0, -0.5, 0.0], max = [0.0, 0.5, 1.0] }} }}
 
 [[body]]
@@ -510,7 +512,12 @@ joint = "j"
 shape = {{ box = {{ min = [{gap}, -0.5, 0.0], max = [{}, 0.5, 1.0] }} }}
 "#,
         gap + 1.0
-    );
+    )
+}
+
+/// Two 1 m cubes resting on a fixed base, their facing sides `gap` apart; `steps` steps.
+fn side_by_side(gap: f64, name: &str) -> RunOutcome {
+    let bodies = two_cubes(gap, "");
     let text = cube_case(
         "duration = 1.0\ndt = 0.001\nmax_steps = 20\ngravity = [0.0, 0.0, -10.0]",
         "friction_angle = 30.0",
@@ -535,4 +542,42 @@ fn open_contacts_add_no_fill_to_the_system_matrix() {
         near.summary.pattern_rebuilds, far.summary.pattern_rebuilds,
         "the pattern grew for the base contacts only"
     );
+}
+
+/// A 1 m cube sliding at 1 m/s on a frictionless fixed base past a cube at rest, their facing
+/// sides `gap` apart; the side pair's contact points after the first detection and after
+/// `steps` steps of 1 ms.
+fn side_points(gap: f64, steps: usize) -> (usize, usize) {
+    let bodies = two_cubes(gap, "velocity = [0.0, 1.0, 0.0]");
+    let analysis = "duration = 1.0\ndt = 0.001\nmax_displacement_ratio = 0.05\ngravity = [0.0, 0.0, -10.0]";
+    let text = cube_case(analysis, "friction_angle = 0.0", &bodies);
+    let sys = System::build(scenario(&text), "<test>").unwrap_or_else(|e| panic!("{e}"));
+    let mut whole = State::initial(&sys);
+    let mut stepper = Stepper::new(&sys, &mut whole, "<test>").unwrap_or_else(|e| panic!("{e}"));
+    stepper.initialize(&sys, &mut whole).unwrap();
+    let block = |name: &str| {
+        let named = |b: &usize| sys.scenario.body[sys.geometry.blocks[*b].body].name == name;
+        (0..sys.geometry.blocks.len()).find(named).expect("a block of that body")
+    };
+    let (a, b) = (block("left"), block("right"));
+    let pair = (a.max(b), a.min(b));
+    let sides = |w: &State| w.contact.as_ref().unwrap().records.iter().filter(|r| r.blocks == pair).count();
+    let first = sides(&whole);
+    for _ in 0..steps {
+        stepper.step(&sys, &mut whole, 1.0).unwrap_or_else(|e| panic!("{e}"));
+    }
+    (first, sides(&whole))
+}
+
+#[test]
+fn a_moving_step_detects_within_twice_its_reach_not_the_step_controls_bound() {
+    // The step control allows 0.05 × 3 m = 0.15 m per step, so the first detection (no motion
+    // known yet) takes the sides 50 mm apart as open points. Sliding at 1 m/s a step moves
+    // 1 mm, and later detections look 0.5 mm + 2 × 4 (`reach_safety`) × 1 mm far: they leave
+    // the sides 50 mm apart out and keep those 2 mm apart.
+    let (first, later) = side_points(0.05, 20);
+    assert!(first > 0, "the first detection takes the sides within the step control's margin");
+    assert_eq!(later, 0, "sides 50 mm apart are beyond the step's margin");
+    let (first, later) = side_points(0.002, 20);
+    assert!(first > 0 && later > 0, "sides 2 mm apart are within it: {first}, {later}");
 }
