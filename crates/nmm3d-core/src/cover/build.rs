@@ -67,7 +67,8 @@ impl Covers {
                 block_elements((b, block_mesh[b]), block, &meshes[block_mesh[b]], &pattern, &full_moments)
             })
             .collect();
-        let elements: Vec<ManifoldElement> = per_block.into_iter().flatten().collect();
+        let mut elements: Vec<ManifoldElement> = Vec::with_capacity(per_block.iter().map(Vec::len).sum());
+        per_block.into_iter().for_each(|v| elements.extend(v));
         let (elements, covers) = number_covers(elements, &meshes, &pattern);
         let mut by_cell: FxHashMap<(usize, [i32; 3]), Vec<usize>> = FxHashMap::default();
         for (i, e) in elements.iter().enumerate() {
@@ -233,7 +234,7 @@ fn block_elements(
     if block.pieces.len() > 1 {
         parts.sort_by_key(|p| (p.0[2], p.0[1], p.0[0], p.1));
     }
-    let mut out = Vec::new();
+    let mut out = Vec::with_capacity(parts.len());
     let mut start = 0;
     while start < parts.len() {
         let end = start + parts[start..].iter().take_while(|p| p.0 == parts[start].0 && p.1 == parts[start].1).count();
@@ -244,7 +245,11 @@ fn block_elements(
                 m.iter_mut().zip(parts[g + start].3.iter()).for_each(|(a, b)| *a += b);
             }
             let full = group.len() == 1 && parts[group[0] + start].4;
-            let geom = group.iter().map(|&g| parts[g + start].2.clone()).collect();
+            // Each part belongs to one group: its geometry moves into the ME (no copy).
+            let geom = group
+                .iter()
+                .map(|&g| std::mem::replace(&mut parts[g + start].2, ConvexPolyhedron { faces: Vec::new() }))
+                .collect();
             out.push(ManifoldElement {
                 block: b,
                 mesh: mesh_index,

@@ -142,33 +142,36 @@ impl Csr {
         debug_assert_eq!(self.cols, b.rows);
         let chunks: Vec<(Vec<usize>, Vec<u32>, Vec<f64>)> = (0..self.rows.div_ceil(CHUNK))
             .into_par_iter()
-            .map(|c| {
-                let (mut acc, mut seen) = (vec![0.0; b.cols], vec![false; b.cols]);
-                let (mut lens, mut idx, mut val) = (Vec::new(), Vec::new(), Vec::new());
-                let mut touched: Vec<u32> = Vec::new();
-                for r in c * CHUNK..((c + 1) * CHUNK).min(self.rows) {
-                    let (ai, av) = self.row(r);
-                    for (&k, &a) in ai.iter().zip(av) {
-                        let (bi, bv) = b.row(k as usize);
-                        for (&j, &v) in bi.iter().zip(bv) {
-                            if !seen[j as usize] {
-                                seen[j as usize] = true;
-                                touched.push(j);
+            // The dense accumulator of a row, once per rayon job rather than per chunk: the kernel
+            // zeroes every fresh page, and per chunk that was 4–5 % of a 10⁵-ME static run.
+            .map_init(
+                || (vec![0.0; b.cols], vec![false; b.cols], Vec::new()),
+                |(acc, seen, touched): &mut (Vec<f64>, Vec<bool>, Vec<u32>), c| {
+                    let (mut lens, mut idx, mut val) = (Vec::new(), Vec::new(), Vec::new());
+                    for r in c * CHUNK..((c + 1) * CHUNK).min(self.rows) {
+                        let (ai, av) = self.row(r);
+                        for (&k, &a) in ai.iter().zip(av) {
+                            let (bi, bv) = b.row(k as usize);
+                            for (&j, &v) in bi.iter().zip(bv) {
+                                if !seen[j as usize] {
+                                    seen[j as usize] = true;
+                                    touched.push(j);
+                                }
+                                acc[j as usize] += a * v;
                             }
-                            acc[j as usize] += a * v;
                         }
+                        touched.sort_unstable();
+                        for &j in touched.iter() {
+                            idx.push(j);
+                            val.push(acc[j as usize]);
+                            (acc[j as usize], seen[j as usize]) = (0.0, false);
+                        }
+                        lens.push(touched.len());
+                        touched.clear();
                     }
-                    touched.sort_unstable();
-                    for &j in &touched {
-                        idx.push(j);
-                        val.push(acc[j as usize]);
-                        (acc[j as usize], seen[j as usize]) = (0.0, false);
-                    }
-                    lens.push(touched.len());
-                    touched.clear();
-                }
-                (lens, idx, val)
-            })
+                    (lens, idx, val)
+                },
+            )
             .collect();
         let mut ptr = Vec::with_capacity(self.rows + 1);
         ptr.push(0);
