@@ -10,10 +10,10 @@
 import os as _os
 
 # mimalloc (the Rust side's allocator) hands freed pages back to the system 10 ms after they
-# are freed; a run then takes them again, and the kernel zeroes every page anew — 27 % of a
-# static solve of 10^5 MEs in `perf`. Kept until the process ends, the same run is about 9 %
-# faster (bench/static_equilibrium.py); the peak it needs is unchanged. Read when `_core` loads,
-# and only if the user has not chosen otherwise.
+# are freed; a run then takes them again and the kernel zeroes each anew (zeroing was a quarter
+# of a static solve of 10^5 MEs in `perf`). Kept until the process ends: the median of five
+# such runs fell from 1.37 to 1.19 s, for a peak about a sixth higher (docs/theory/solver.md).
+# Read when `_core` loads, and only if the user has not chosen otherwise.
 _os.environ.setdefault("MIMALLOC_PURGE_DELAY", "-1")
 
 from nmm3d._core import InternalError, NmmError, OutputError, RunError, ScenarioError, __version__
