@@ -67,7 +67,7 @@ impl ContactSurfaces {
         let (redo, stay): (Vec<Pair>, Vec<Pair>) =
             near.iter().partition(|&&q| initial || h.travel.since(self.blocks_of(q), None) >= p.tolerance);
         let kept: FxHashSet<(usize, usize)> = stay.iter().map(|&q| self.blocks_of(q)).collect();
-        let found = self.find(sys, state, (&current, &boxes), &narrow, (&redo, f64::NEG_INFINITY));
+        let found = self.find(sys, state, &current, &narrow, (&redo, f64::NEG_INFINITY));
         let previous = std::mem::take(&mut h.records);
         let mut by_pair: FxHashMap<(usize, usize), Vec<usize>> = FxHashMap::default();
         for (k, r) in previous.iter().enumerate() {
@@ -113,7 +113,7 @@ impl ContactSurfaces {
         &self,
         sys: &System,
         state: &Motion,
-        (current, boxes): (&[ConvexPolyhedron], &[Aabb]),
+        current: &[ConvexPolyhedron],
         p: &ContactParams,
         (pairs, overlap): (&[(usize, usize)], f64),
     ) -> Vec<(usize, usize, Vec3, Vec<Candidate>)> {
@@ -129,10 +129,6 @@ impl ContactSurfaces {
             .par_iter()
             .map(|&(i, j)| if pieces[i].block > pieces[j].block { (i, j) } else { (j, i) })
             .filter_map(|(i, j)| {
-                // Boxes apart by more hold pieces apart by more.
-                if boxes[i].separation(&boxes[j]) > p.margin.min(-overlap) {
-                    return None;
-                }
                 let c = detect_prepared(prepared_of(i), prepared_of(j), &dp).filter(|c| c.separation <= -overlap)?;
                 let on = Surfaces {
                     pieces: (&pieces[i], &pieces[j]),
@@ -173,7 +169,7 @@ impl ContactSurfaces {
             .filter(|&(i, j)| boxes[i].separation(&boxes[j]) <= -overlap)
             .filter(|&q| h.travel.since(self.blocks_of(q), Some(&moved)) >= p.tolerance)
             .collect();
-        let found = self.find(sys, end, (&current, &boxes), &p, (&pairs, overlap));
+        let found = self.find(sys, end, &current, &p, (&pairs, overlap));
         let reach = REACH * p.tolerance;
         let mut added = Vec::new();
         for (i, j, normal, points) in found {
