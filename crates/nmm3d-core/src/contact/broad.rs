@@ -71,7 +71,7 @@ pub fn sweep(boxes: &[Aabb], gap: f64) -> Vec<(usize, usize)> {
     for (k, &i) in order.iter().enumerate() {
         let reach = boxes[i].max[axis] + gap;
         for &j in order[k + 1..].iter().take_while(|&&j| boxes[j].min[axis] <= reach) {
-            if within(&boxes[i], &boxes[j], gap) {
+            if boxes[i].separation(&boxes[j]) <= gap {
                 pairs.push((i.min(j), i.max(j)));
             }
         }
@@ -87,10 +87,6 @@ fn spread_axis(boxes: &[Aabb]) -> usize {
     let mean: Vec3 = centres.iter().sum::<Vec3>() / n;
     let var = centres.iter().fold(Vec3::zeros(), |acc, c| acc + (c - mean).component_mul(&(c - mean)));
     (0..3).max_by(|&a, &b| var[a].total_cmp(&var[b])).unwrap_or(0)
-}
-
-fn within(a: &Aabb, b: &Aabb, gap: f64) -> bool {
-    (0..3).all(|k| a.min[k] <= b.max[k] + gap && b.min[k] <= a.max[k] + gap)
 }
 
 #[cfg(test)]
@@ -114,7 +110,7 @@ mod tests {
         let mut brute = Vec::new();
         for i in 0..boxes.len() {
             for j in i + 1..boxes.len() {
-                if within(&boxes[i], &boxes[j], gap) {
+                if boxes[i].separation(&boxes[j]) <= gap {
                     brute.push((i, j));
                 }
             }
