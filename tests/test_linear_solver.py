@@ -96,3 +96,18 @@ def test_a_compact_block_keeps_its_first_matrix_and_a_slender_beam_assembles_its
     from conftest import EXAMPLES
     beam = nmm3d.load(EXAMPLES / "cantilever.toml").run(out=tmp_path / "beam").summary
     assert beam["krylov_solves"] >= 2 and beam["krylov_iterations"] >= 3 * beam["krylov_solves"]
+
+
+@pytest.mark.parametrize("user", [None, "1"])
+def test_import_sets_the_allocators_page_defaults_unless_the_user_chose(user):
+    """`import nmm3d` keeps freed pages and asks for no huge pages (docs/theory/solver.md) —
+    before `_core` loads, and never over a value the user set."""
+    import os
+    import subprocess
+
+    env = {k: v for k, v in os.environ.items() if not k.startswith("MIMALLOC_")}
+    if user is not None:
+        env["MIMALLOC_ALLOW_THP"] = user
+    code = "import os, nmm3d; print(os.environ['MIMALLOC_ALLOW_THP'], os.environ['MIMALLOC_PURGE_DELAY'])"
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+    assert out.stdout.split() == [user or "0", "-1"]
