@@ -1,48 +1,36 @@
 //! A frame's `.vtu`: every manifold element as a polyhedral cell at its current position, with
-//! the point and cell data listed in [`super::vtu`]. The per-element work (cell shapes,
-//! stresses) and the per-point work (interpolated positions, displacements, velocities) run in
-//! parallel; only the sharing of points between cells is sequential, so the file is the same
-//! for any number of threads.
+//! the point and cell data listed in [`super::vtu`]. The cells and their points' sources come
+//! from the model's [`FrameLayout`] (made by its first frame); the per-element work (stresses)
+//! and the per-point work (interpolated positions, displacements, velocities) run in parallel,
+//! so the file is the same for any number of threads.
 
 use rayon::prelude::*;
 use std::path::Path;
 
 use nmm3d_geom::Vec3;
 
-use super::vtu::{permute, point_key, Appended, Cells, Shape, POINT_QUANTUM};
+use super::layout::FrameLayout;
+use super::vtu::Appended;
 use crate::element::kernel::stress_components;
 use crate::error::Result;
 use crate::state::Motion;
 use crate::system::System;
 use crate::time::corotation;
 
-/// Write one frame.
-pub fn write_frame(sys: &System, state: &Motion, path: &Path) -> Result<()> {
-    let quantum = POINT_QUANTUM * sys.covers.mesh().size;
+/// Write one frame, with `layout` (made here if it is `None` or of another model).
+pub fn write_frame(sys: &System, state: &Motion, path: &Path, layout: &mut Option<FrameLayout>) -> Result<()> {
+    let layout = match layout {
+        Some(l) if l.fits(sys) => l,
+        _ => layout.insert(FrameLayout::of(sys)),
+    };
     let elements = &sys.covers.elements;
-    let gathered: Vec<(Vec<Shape>, [f64; 6])> = (elements.par_iter().enumerate())
-        .map(|(e, me)| {
-            let key = |xi: &Vec3| point_key(me.block, &sys.covers.global(me, xi), quantum);
-            let shapes = me.parts.iter().map(|p| Shape::of(p, key)).collect();
-            (shapes, stress_components(&corotation::element_stress(sys, state, e)))
-        })
+    let stress: Vec<[f64; 6]> = (0..elements.len())
+        .into_par_iter()
+        .map(|e| stress_components(&corotation::element_stress(sys, state, e)))
         .collect();
-    let mut cells = Cells::with_capacity(elements.len());
-    // Each point's element and own coordinates, in point order.
-    let mut sources: Vec<(usize, Vec3)> = Vec::new();
-    let (mut block_id, mut element_id, mut stress) = (Vec::new(), Vec::new(), Vec::new());
-    for (e, (shapes, sigma)) in gathered.iter().enumerate() {
-        for shape in shapes {
-            sources.extend(cells.add(shape).into_iter().map(|k| (e, shape.verts[k])));
-            block_id.push(elements[e].block as i64);
-            element_id.push(e as i64);
-            stress.extend(sigma);
-        }
-    }
-    drop(gathered);
     // Positions in the scenario's coordinates (the model runs in a local frame).
     let o = sys.geometry.origin;
-    let values: Vec<[Vec3; 4]> = (sources.par_iter())
+    let values: Vec<[Vec3; 4]> = (layout.sources.par_iter())
         .map(|&(e, xi)| {
             let me = &elements[e];
             let w = sys.covers.weights(me);
@@ -57,7 +45,7 @@ pub fn write_frame(sys: &System, state: &Motion, path: &Path) -> Result<()> {
             ]
         })
         .collect();
-    cells.points = values.iter().map(|v| v[0]).collect();
+    layout.cells.points = values.iter().map(|v| v[0]).collect();
     let column = |k: usize| values.iter().map(|v| v[k]).collect::<Vec<_>>();
     let mut bin = Appended::default();
     let mut point_data = String::from("<PointData Vectors=\"displacement\">\n");
@@ -65,11 +53,15 @@ pub fn write_frame(sys: &System, state: &Motion, path: &Path) -> Result<()> {
     bin.vec3(&mut point_data, "velocity", &column(2));
     bin.vec3(&mut point_data, "reference_position", &column(3));
     point_data.push_str("</PointData>\n");
-    let order = cells.order();
+    let written = &layout.written;
+    let block_id: Vec<i64> = written.iter().map(|&e| elements[e].block as i64).collect();
+    let element_id: Vec<i64> = written.iter().map(|&e| e as i64).collect();
+    let stress: Vec<f64> = written.iter().flat_map(|&e| stress[e]).collect();
     let mut cell_data = String::from("<CellData Scalars=\"block_id\">\n");
-    bin.i64(&mut cell_data, "block_id", 1, &permute(&block_id, 1, &order));
-    bin.i64(&mut cell_data, "element_id", 1, &permute(&element_id, 1, &order));
-    bin.f64(&mut cell_data, "stress", 6, &permute(&stress, 6, &order));
+    bin.i64(&mut cell_data, "block_id", 1, &block_id);
+    bin.i64(&mut cell_data, "element_id", 1, &element_id);
+    bin.f64(&mut cell_data, "stress", 6, &stress);
     cell_data.push_str("</CellData>\n");
-    cells.write(path, &order, bin, &super::vtu::field_data(state.time), &point_data, &cell_data)
+    let field = super::vtu::field_data(state.time);
+    layout.cells.write(path, &layout.order, bin, &field, &point_data, &cell_data)
 }

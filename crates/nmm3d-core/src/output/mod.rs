@@ -5,6 +5,7 @@ pub mod atomic;
 pub mod checks;
 pub mod cuts;
 pub mod frame;
+pub mod layout;
 pub mod progress;
 pub mod run_dir;
 pub mod summary;

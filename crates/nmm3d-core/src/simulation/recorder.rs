@@ -8,6 +8,7 @@ use std::time::Instant;
 use crate::checkpoint::RecordSnapshot;
 use crate::error::Result;
 use crate::monitor::MonitorPlan;
+use crate::output::layout::FrameLayout;
 use crate::output::{cuts, frame, tables, vtu};
 use crate::scenario::Scenario;
 use crate::system::System;
@@ -34,6 +35,8 @@ pub(super) struct Recorder {
     /// Where each monitored value of the current model goes among the history's columns (a
     /// staged run's columns are every stage's); `None`: in order.
     layout: Option<Vec<usize>>,
+    /// The frames' cells of the current model, made by its first frame.
+    frame_layout: Option<FrameLayout>,
 }
 
 /// Wall-clock seconds between rewrites of `history.csv` during a run, so long runs can be
@@ -61,6 +64,7 @@ impl Recorder {
             output_seconds: 0.0,
             last_history_write: Instant::now(),
             layout: None,
+            frame_layout: None,
         }
     }
 
@@ -82,6 +86,7 @@ impl Recorder {
         let at = |c: &String| all.iter().position(|x| x == c).expect("the run's columns hold every stage's");
         self.layout = Some(columns(&sys.scenario, &monitors).iter().map(at).collect());
         self.monitors = monitors;
+        self.frame_layout = None;
     }
 
     pub(super) fn record(&mut self, sys: &System, whole: &State, first: bool) -> Result<()> {
@@ -123,7 +128,7 @@ impl Recorder {
         let (state, contacts) = (&whole.motion, whole.contact.as_ref());
         let k = self.frames.len();
         let name = format!("frames/blocks_{k:05}.vtu");
-        frame::write_frame(sys, state, &self.out.join(&name))?;
+        frame::write_frame(sys, state, &self.out.join(&name), &mut self.frame_layout)?;
         let contact_name = match contacts {
             Some(c) => {
                 let name = format!("frames/contacts_{k:05}.vtu");
