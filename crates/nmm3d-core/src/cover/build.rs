@@ -2,9 +2,9 @@
 //!
 //! For each convex piece of a block, every cell of the mathematical mesh that its bounding box
 //! touches is visited. A cell whose eight corners lie inside the piece (or on its faces)
-//! contributes its sub-cells whole, faces on the piece's boundary taking the piece's tags; otherwise the piece is clipped by each sub-cell's planes. Physical covers
-//! are the classes of (ME, node) incidences merged across ME faces of positive area that both
-//! MEs share (the face lies in the star of each of its nodes).
+//! contributes its sub-cells whole, faces on the piece's boundary taking the piece's tags;
+//! otherwise the piece is clipped by each sub-cell's planes. Cells are visited in parallel by
+//! layers and gathered in order. The physical covers are numbered in [`super::numbering`].
 
 use rustc_hash::FxHashMap;
 
@@ -14,7 +14,8 @@ use nmm3d_geom::polyhedron::CLIP_TOLERANCE;
 use nmm3d_geom::{integrate, polygon, ConvexPolyhedron, FaceTag, Plane, Vec3};
 
 use super::manifold_element::ManifoldElement;
-use super::mesh::{cell_corner, MathMesh, NodeKey};
+use super::mesh::{cell_corner, MathMesh};
+use super::numbering;
 use super::pattern::{parity, PatternTable, CELL_TAG};
 use super::physical_cover::PhysicalCover;
 use super::poly::{self, TERMS};
@@ -69,7 +70,7 @@ impl Covers {
             .collect();
         let mut elements: Vec<ManifoldElement> = Vec::with_capacity(per_block.iter().map(Vec::len).sum());
         per_block.into_iter().for_each(|v| elements.extend(v));
-        let (elements, covers) = number_covers(elements, &meshes, &pattern);
+        let (elements, covers) = numbering::number_covers(elements, &meshes, &pattern);
         let mut by_cell: FxHashMap<(usize, [i32; 3]), Vec<usize>> = FxHashMap::default();
         for (i, e) in elements.iter().enumerate() {
             by_cell.entry((e.mesh, e.cell)).or_default().push(i);
@@ -170,6 +171,44 @@ fn full_subcell_moments(pattern: &PatternTable) -> [Vec<[f64; TERMS]>; 2] {
 /// it is the whole sub-cell).
 type Part = ([i32; 3], usize, ConvexPolyhedron, [f64; TERMS], bool);
 
+/// The parts of a piece (`local`: in mesh coordinates, with its face planes) in the sub-cells
+/// of `cell`, appended to `out`.
+fn cell_parts(
+    cell: [i32; 3],
+    (local, planes, eps, on): (&ConvexPolyhedron, &[(Plane, FaceTag)], f64, f64),
+    pattern: &PatternTable,
+    full_moments: &[Vec<[f64; TERMS]>; 2],
+    out: &mut Vec<Part>,
+) {
+    let c = cell_corner(cell);
+    // Farthest corner's signed distance: < −eps strictly inside; ≤ `on` inside with some cell
+    // faces on the piece's boundary (convexity: corners in ⇒ cell in).
+    let reach = (0..8)
+        .map(|q| {
+            let x = c + Vec3::new((q & 1) as f64, ((q >> 1) & 1) as f64, ((q >> 2) & 1) as f64);
+            planes.iter().map(|(p, _)| p.signed_distance(&x)).fold(f64::NEG_INFINITY, f64::max)
+        })
+        .fold(f64::NEG_INFINITY, f64::max);
+    let full = reach < -eps;
+    let inside = reach <= on;
+    for (si, sub) in pattern.of_cell(cell).iter().enumerate() {
+        let geom = if full {
+            Some(sub.shape.clone())
+        } else if inside {
+            Some(tag_boundary_faces(&sub.shape, planes, c, on))
+        } else {
+            clip_to_subcell(local, sub, c)
+        };
+        let Some(g) = geom else { continue };
+        let whole = full_moments[parity(cell)][si];
+        // A clipped piece with the whole sub-cell's volume is the sub-cell (only its faces on
+        // the block boundary are tagged differently): reuse its moments.
+        let is_whole = inside || (g.volume() - whole[0]).abs() <= WHOLE_TOLERANCE * whole[0];
+        let m = if is_whole { whole } else { moments(&g, pattern) };
+        out.push((cell, si, g, m, is_whole));
+    }
+}
+
 fn block_elements(
     (b, mesh_index): (usize, usize),
     block: &Block,
@@ -196,40 +235,20 @@ fn block_elements(
         let eps = FULL_CELL_TOLERANCE * bb.diagonal();
         let on = (CLIP_TOLERANCE * bb.diagonal()).max(SNAP);
         let (lo, hi) = (mesh.cell_of(&bb.min), mesh.cell_of(&bb.max));
-        for k in lo[2]..=hi[2] {
-            for j in lo[1]..=hi[1] {
-                for i in lo[0]..=hi[0] {
-                    let cell = [i, j, k];
-                    let c = cell_corner(cell);
-                    // Farthest corner's signed distance: < −eps strictly inside; ≤ `on` inside
-                    // with some cell faces on the piece's boundary (convexity: corners in ⇒ cell in).
-                    let reach = (0..8)
-                        .map(|q| {
-                            let x = c + Vec3::new((q & 1) as f64, ((q >> 1) & 1) as f64, ((q >> 2) & 1) as f64);
-                            planes.iter().map(|(p, _)| p.signed_distance(&x)).fold(f64::NEG_INFINITY, f64::max)
-                        })
-                        .fold(f64::NEG_INFINITY, f64::max);
-                    let full = reach < -eps;
-                    let inside = reach <= on;
-                    for (si, sub) in pattern.of_cell(cell).iter().enumerate() {
-                        let geom = if full {
-                            Some(sub.shape.clone())
-                        } else if inside {
-                            Some(tag_boundary_faces(&sub.shape, &planes, c, on))
-                        } else {
-                            clip_to_subcell(&local, sub, c)
-                        };
-                        let Some(g) = geom else { continue };
-                        let whole = full_moments[parity(cell)][si];
-                        // A clipped piece with the whole sub-cell's volume is the sub-cell (only its
-                        // faces on the block boundary are tagged differently): reuse its moments.
-                        let is_whole = inside || (g.volume() - whole[0]).abs() <= WHOLE_TOLERANCE * whole[0];
-                        let m = if is_whole { whole } else { moments(&g, pattern) };
-                        parts.push((cell, si, g, m, is_whole));
+        // Layers of cells in parallel (one block may be the whole model), gathered in order.
+        let layers: Vec<Vec<Part>> = (lo[2]..=hi[2])
+            .into_par_iter()
+            .map(|k| {
+                let mut layer = Vec::new();
+                for j in lo[1]..=hi[1] {
+                    for i in lo[0]..=hi[0] {
+                        cell_parts([i, j, k], (&local, &planes, eps, on), pattern, full_moments, &mut layer);
                     }
                 }
-            }
-        }
+                layer
+            })
+            .collect();
+        parts.extend(layers.into_iter().flatten());
     }
     if block.pieces.len() > 1 {
         parts.sort_by_key(|p| (p.0[2], p.0[1], p.0[0], p.1));
@@ -351,82 +370,4 @@ fn clip_to_subcell(local_piece: &ConvexPolyhedron, sub: &super::pattern::SubCell
         g = g.clip_within(&shifted, FaceTag(CELL_TAG + k as u32), SNAP)?;
     }
     Some(g.map(|x| x - c))
-}
-
-type FaceKey = (usize, [NodeKey; 4]);
-
-fn number_covers(
-    mut elements: Vec<ManifoldElement>,
-    meshes: &[MathMesh],
-    pattern: &PatternTable,
-) -> (Vec<ManifoldElement>, Vec<PhysicalCover>) {
-    // Incidence (e, slot) ↦ flat index.
-    let mut offset = Vec::with_capacity(elements.len() + 1);
-    let mut total = 0;
-    for e in &elements {
-        offset.push(total);
-        total += pattern.of_cell(e.cell)[e.subcell].nodes.len();
-    }
-    let mut uf = UnionFind::new(total);
-    let mut faces: FxHashMap<FaceKey, (usize, usize)> = FxHashMap::default();
-    for (ei, e) in elements.iter().enumerate() {
-        let sub = &pattern.of_cell(e.cell)[e.subcell];
-        for f in e.faces().filter(|f| f.tag.0 >= CELL_TAG) {
-            let plane = (f.tag.0 - CELL_TAG) as usize;
-            let key = face_key(e, sub, plane);
-            if let Some((other, other_plane)) = faces.insert(key, (ei, plane)) {
-                merge_across(&mut uf, &offset, &elements, pattern, (other, other_plane), (ei, plane));
-            }
-        }
-    }
-    // Union-find root (an incidence index) ↦ cover number, numbered by first appearance.
-    let mut class_to_cover = vec![usize::MAX; total];
-    let mut covers = Vec::new();
-    for (ei, e) in elements.iter_mut().enumerate() {
-        let sub = &pattern.of_cell(e.cell)[e.subcell];
-        e.covers = (0..sub.nodes.len())
-            .map(|slot| {
-                let root = uf.find(offset[ei] + slot);
-                if class_to_cover[root] == usize::MAX {
-                    let node = node_key(e.cell, sub.nodes[slot]);
-                    covers.push(PhysicalCover { block: e.block, node, position: meshes[e.mesh].node_position(node) });
-                    class_to_cover[root] = covers.len() - 1;
-                }
-                class_to_cover[root]
-            })
-            .collect();
-    }
-    (elements, covers)
-}
-
-fn node_key(cell: [i32; 3], offset: [i32; 3]) -> NodeKey {
-    [2 * cell[0] + offset[0], 2 * cell[1] + offset[1], 2 * cell[2] + offset[2]]
-}
-
-fn face_key(e: &ManifoldElement, sub: &super::pattern::SubCell, plane: usize) -> FaceKey {
-    let mut keys = [[i32::MAX; 3]; 4];
-    for (slot, &n) in sub.plane_nodes[plane].iter().enumerate() {
-        keys[slot] = node_key(e.cell, sub.nodes[n]);
-    }
-    keys.sort();
-    (e.block, keys)
-}
-
-/// Join the incidences of the shared face's nodes in two MEs.
-fn merge_across(
-    uf: &mut UnionFind,
-    offset: &[usize],
-    elements: &[ManifoldElement],
-    pattern: &PatternTable,
-    (a, pa): (usize, usize),
-    (b, pb): (usize, usize),
-) {
-    let (ea, eb) = (&elements[a], &elements[b]);
-    let (sa, sb) = (&pattern.of_cell(ea.cell)[ea.subcell], &pattern.of_cell(eb.cell)[eb.subcell]);
-    for &na in &sa.plane_nodes[pa] {
-        let key = node_key(ea.cell, sa.nodes[na]);
-        if let Some(&nb) = sb.plane_nodes[pb].iter().find(|&&nb| node_key(eb.cell, sb.nodes[nb]) == key) {
-            uf.union(offset[a] + na, offset[b] + nb);
-        }
-    }
 }

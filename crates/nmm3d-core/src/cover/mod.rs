@@ -5,6 +5,7 @@ pub mod build;
 pub mod manifold_element;
 pub mod mesh;
 pub mod meshes;
+mod numbering;
 pub mod pattern;
 pub mod physical_cover;
 pub mod poly;
