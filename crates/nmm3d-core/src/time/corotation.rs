@@ -14,10 +14,14 @@ use crate::element::kernel::{hooke, stress_matrix};
 use crate::state::Motion;
 use crate::system::System;
 
-/// Convergence of the polar decomposition (Müller et al. 2016 iteration in nalgebra).
+/// Convergence of the polar decomposition: the last rotation increment [rad].
 const POLAR_EPS: f64 = 1e-13;
-/// Iteration cap of the polar decomposition.
+/// Iteration cap of nalgebra's search (Müller et al. 2016), the fallback.
 const POLAR_MAX_ITER: usize = 100;
+/// Newton steps of the polar decomposition before the fallback takes over (it converges
+/// quadratically: 1.8–2.2 per call measured on the static block, the dominos and the slope, the
+/// last of them only confirming, none falling back).
+const POLAR_NEWTON_ITER: usize = 12;
 
 /// Mean deformation gradient of ME `e`.
 pub fn deformation_gradient(sys: &System, state: &Motion, e: usize) -> Mat3 {
@@ -28,8 +32,34 @@ pub fn deformation_gradient(sys: &System, state: &Motion, e: usize) -> Mat3 {
     Mat3::identity() + du
 }
 
-/// Rotation of ME `e`, warm-started from `guess`.
+/// Rotation of ME `e`, warm-started from `guess`: the R maximising tr(Rᵀ F̄), the polar factor.
+///
+/// Newton's method on R ← R exp([θ]×): with A = Rᵀ F̄ and S its symmetric part, the gradient of
+/// tr(exp([θ]×)ᵀ A) at θ = 0 is g = (A₃₂ − A₂₃, A₁₃ − A₃₁, A₂₁ − A₁₂) and its Hessian −(tr S I − S),
+/// so θ = (tr S I − S)⁻¹ g. Müller, Chentanez, Kim & Macklin (2016; nalgebra's `from_matrix_eps`)
+/// step by g / tr S: near a rotation tr S I − S ≈ 2 I against tr S ≈ 3, so their error falls only
+/// threefold per step — 9.6–11.2 steps per call measured on the static block and the dominos.
+/// Measured on the dominos with the 0.1 m cover (3 001 MEs, 0.8 s): 4.26–4.51 s → 3.61–3.94 s.
+/// A converged R is the maximum when tr A > ‖F̄‖_F: at the stationary points R₀Q (Q the identity
+/// or a half-turn about an eigenvector of U, F̄ = R₀U) the trace is u₁ + u₂ + u₃ or uᵢ − uⱼ − uₖ,
+/// and √(Σuᵢ²) lies between them for positive stretches. Otherwise (an inverted element, a guess
+/// near a half-turn) nalgebra's search from `guess` decides.
 pub fn rotation(f: &Mat3, guess: &Mat3) -> Mat3 {
+    let mut r = *guess;
+    for _ in 0..POLAR_NEWTON_ITER {
+        let a = r.transpose() * f;
+        let g = Vec3::new(a[(2, 1)] - a[(1, 2)], a[(0, 2)] - a[(2, 0)], a[(1, 0)] - a[(0, 1)]);
+        let s = 0.5 * (a + a.transpose());
+        let Some(h) = (Mat3::identity() * s.trace() - s).cholesky() else { break };
+        let theta = h.solve(&g);
+        if theta.norm() <= POLAR_EPS {
+            if a.trace() > f.norm() {
+                return r;
+            }
+            break;
+        }
+        r *= nalgebra::Rotation3::new(theta).into_inner();
+    }
     let g = nalgebra::Rotation3::from_matrix_unchecked(*guess);
     nalgebra::Rotation3::from_matrix_eps(f, POLAR_EPS, POLAR_MAX_ITER, g).into_inner()
 }
@@ -156,4 +186,48 @@ pub fn block(m: &[f64], n: usize, a: usize, b: usize) -> Mat3 {
 /// Rotation vector (axis × angle) of a rotation matrix [rad].
 pub fn rotation_vector(r: &Mat3) -> Vec3 {
     nalgebra::Rotation3::from_matrix_unchecked(*r).scaled_axis()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn turn(x: f64, y: f64, z: f64) -> Mat3 {
+        nalgebra::Rotation3::new(Vec3::new(x, y, z)).into_inner()
+    }
+
+    /// A symmetric positive stretch with principal values `u` in axes turned by `axes`.
+    fn stretch(u: [f64; 3], axes: &Mat3) -> Mat3 {
+        axes * Mat3::from_diagonal(&Vec3::from(u)) * axes.transpose()
+    }
+
+    #[test]
+    fn the_newton_rotation_is_the_polar_factor_from_near_and_far_guesses() {
+        for (k, u) in [[1.0, 1.0, 1.0], [1.001, 0.999, 1.0002], [1.3, 0.8, 1.05], [2.0, 0.5, 0.9]].iter().enumerate() {
+            let r0 = turn(0.3 + k as f64, -1.1, 0.7);
+            let f = r0 * stretch(*u, &turn(0.2, 0.5, -0.4 * k as f64));
+            // From the last step's rotation nearby, from the identity, and from a half-turn away
+            // (a saddle of tr(Rᵀ F): the fallback must still find the maximum).
+            for guess in [r0 * turn(1e-3, -2e-3, 5e-4), Mat3::identity(), r0 * turn(0.0, 0.0, std::f64::consts::PI)] {
+                let r = rotation(&f, &guess);
+                assert!((r - r0).norm() < 1e-11, "stretch {u:?}: {}", (r - r0).norm());
+                assert!((r.transpose() * r - Mat3::identity()).norm() < 1e-13);
+            }
+        }
+    }
+
+    #[test]
+    fn an_inverted_element_gets_the_maximum_or_nalgebras_search() {
+        let nalgebra_polar = |f: &Mat3| {
+            let g = nalgebra::Rotation3::from_matrix_unchecked(Mat3::identity());
+            nalgebra::Rotation3::from_matrix_eps(f, POLAR_EPS, POLAR_MAX_ITER, g).into_inner()
+        };
+        let r0 = turn(0.4, 0.1, -0.2);
+        // One stretch negative, the maximum still unique (trace 1.8 > ‖F‖ = 1.43): found.
+        let f = r0 * Mat3::from_diagonal(&Vec3::new(-0.2, 1.0, 1.0));
+        assert!((rotation(&f, &Mat3::identity()) - nalgebra_polar(&f)).norm() < 1e-12);
+        // A reflection: no stationary point passes the test, nalgebra's search decides.
+        let f = r0 * Mat3::from_diagonal(&Vec3::new(-1.0, 1.0, 1.0));
+        assert_eq!(rotation(&f, &Mat3::identity()), nalgebra_polar(&f));
+    }
 }
