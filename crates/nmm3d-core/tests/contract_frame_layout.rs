@@ -4,19 +4,15 @@
 
 mod common;
 
-use common::{example, out_dir, scenario, with};
+use common::{example, out_dir, scenario, started, with};
 use nmm3d_core::output::frame::write_frame;
 use nmm3d_core::output::layout::FrameLayout;
 use nmm3d_core::system::System;
-use nmm3d_core::time::{State, Stepper};
 
 #[test]
 fn a_frame_on_the_kept_layout_is_the_frame_written_afresh() {
     let text = with(&example("dominos.toml"), "duration = 5.0", "duration = 0.1");
-    let sys = System::build(scenario(&text), "dominos").unwrap_or_else(|e| panic!("{e}"));
-    let mut state = State::initial(&sys);
-    let mut stepper = Stepper::new(&sys, &mut state, "dominos").unwrap_or_else(|e| panic!("{e}"));
-    stepper.initialize(&sys, &mut state).unwrap();
+    let (sys, mut state, mut stepper) = started(&text, "dominos");
     let dir = out_dir("frame_layout");
     std::fs::create_dir_all(&dir).unwrap();
     let (first, kept, fresh) = (dir.join("0.vtu"), dir.join("1.vtu"), dir.join("2.vtu"));

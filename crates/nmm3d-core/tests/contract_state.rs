@@ -5,17 +5,13 @@
 
 mod common;
 
-use common::{example, scenario, with};
-use nmm3d_core::system::System;
+use common::{example, started, with};
 use nmm3d_core::time::{State, Stepper};
 
 #[test]
 fn a_mid_run_state_with_contacts_round_trips_and_continues_bit_identically() {
     let text = with(&example("dominos.toml"), "duration = 5.0", "duration = 0.1");
-    let sys = System::build(scenario(&text), "dominos").unwrap_or_else(|e| panic!("{e}"));
-    let mut a = State::initial(&sys);
-    let mut stepper = Stepper::new(&sys, &mut a, "dominos").unwrap_or_else(|e| panic!("{e}"));
-    stepper.initialize(&sys, &mut a).unwrap();
+    let (sys, mut a, mut stepper) = started(&text, "dominos");
     while a.motion.step < 40 {
         let _ = stepper.step(&sys, &mut a, f64::INFINITY).unwrap_or_else(|e| panic!("{e}"));
     }

@@ -5,19 +5,14 @@
 
 mod common;
 
-use common::{example, scenario, with};
+use common::{example, started, with};
 use nmm3d_core::simulation::Status;
-use nmm3d_core::system::System;
-use nmm3d_core::time::{State, Stepper};
 use nmm3d_geom::contact::Mode;
 
 #[test]
 fn dougong_collapses_with_crossing_contacts_and_no_deep_overlap() {
     let text = with(&example("dougong.toml"), "duration = 1.0", "duration = 0.5");
-    let sys = System::build(scenario(&text), "dougong").unwrap_or_else(|e| panic!("{e}"));
-    let mut state = State::initial(&sys);
-    let mut stepper = Stepper::new(&sys, &mut state, "dougong").unwrap_or_else(|e| panic!("{e}"));
-    stepper.initialize(&sys, &mut state).unwrap();
+    let (sys, mut state, mut stepper) = started(&text, "dougong");
     let (mut deepest, mut edge_edge) = (0.0f64, 0usize);
     while state.motion.time < 0.5 - 1e-12 {
         let cap = 0.5 - state.motion.time;

@@ -6,6 +6,16 @@ use std::path::PathBuf;
 use nmm3d_core::scenario::Scenario;
 use nmm3d_core::simulation::{run, RunOptions, RunOutcome};
 
+/// The model of `text` with its initial state and a stepper ready to step (what a run does
+/// before its first step), for tests that step by hand.
+pub fn started(text: &str, label: &str) -> (System, State, Stepper) {
+    let sys = System::build(scenario(text), label).unwrap_or_else(|e| panic!("{e}"));
+    let mut state = State::initial(&sys);
+    let mut stepper = Stepper::new(&sys, &mut state, label).unwrap_or_else(|e| panic!("{e}"));
+    stepper.initialize(&sys, &mut state).unwrap_or_else(|e| panic!("{e}"));
+    (sys, state, stepper)
+}
+
 /// Parse and validate a scenario written inline.
 pub fn scenario(text: &str) -> Scenario {
     nmm3d_core::input::from_toml_str(text, "<test>", &[]).unwrap_or_else(|e| panic!("{e}"))
