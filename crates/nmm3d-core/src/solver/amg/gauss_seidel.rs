@@ -6,32 +6,44 @@
 
 use rayon::prelude::*;
 
-use super::csr::Csr;
+use super::bsr::Bsr;
 
 /// Row ranges relaxed independently.
 pub const PARTS: usize = 8;
 
 /// One sweep on A x = b, forward or `backward` within each range; `old` is scratch of x's size.
-pub fn sweep(a: &Csr, inv_diag: &[f64], b: &[f64], x: &mut [f64], old: &mut [f64], backward: bool) {
-    let part = a.rows.div_ceil(PARTS).max(1);
+/// The ranges hold whole block rows of A (square blocks).
+pub fn sweep(a: &Bsr<f32>, inv_diag: &[f64], b: &[f64], x: &mut [f64], old: &mut [f64], backward: bool) {
+    match a.bc {
+        3 => sweep_with(a, inv_diag, b, x, old, backward, |r, lo, near, far| a.row_times_by::<3>(r, lo, near, far)),
+        6 => sweep_with(a, inv_diag, b, x, old, backward, |r, lo, near, far| a.row_times_by::<6>(r, lo, near, far)),
+        _ => sweep_with(a, inv_diag, b, x, old, backward, |r, lo, near, far| a.row_times(r, lo, near, far)),
+    }
+}
+
+/// [`sweep`] with the row product `row_times` (the block width known to the compiler).
+fn sweep_with(
+    a: &Bsr<f32>,
+    inv_diag: &[f64],
+    b: &[f64],
+    x: &mut [f64],
+    old: &mut [f64],
+    backward: bool,
+    row_times: impl Fn(usize, usize, &[f64], &[f64]) -> f64 + Sync,
+) {
+    let part = (a.rows / a.br).div_ceil(PARTS).max(1) * a.br;
     old.copy_from_slice(x);
     let old = &*old;
     x.par_chunks_mut(part).enumerate().for_each(|(k, xs)| {
-        let lo = k * part;
-        let hi = lo + xs.len();
+        let (lo, n) = (k * part, xs.len());
         let mut relax = |r: usize| {
-            let (idx, val) = a.row(r);
-            let mut sum = 0.0;
-            for (&j, &v) in idx.iter().zip(val) {
-                let j = j as usize;
-                sum += v * if (lo..hi).contains(&j) { xs[j - lo] } else { old[j] };
-            }
+            let sum = row_times(r, lo, xs, old);
             xs[r - lo] += (b[r] - sum) * inv_diag[r];
         };
         if backward {
-            (lo..hi).rev().for_each(&mut relax);
+            (lo..lo + n).rev().for_each(&mut relax);
         } else {
-            (lo..hi).for_each(&mut relax);
+            (lo..lo + n).for_each(&mut relax);
         }
     });
 }
@@ -39,6 +51,7 @@ pub fn sweep(a: &Csr, inv_diag: &[f64], b: &[f64], x: &mut [f64], old: &mut [f64
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::solver::amg::csr::Csr;
 
     #[test]
     fn sweeps_converge_on_a_diagonally_dominant_matrix_and_leave_its_solution_alone() {
@@ -54,7 +67,7 @@ mod tests {
             }
             ptr.push(idx.len());
         }
-        let a = Csr { rows: n, cols: n, ptr, idx, val };
+        let a = Bsr::<f32>::from_csr(&Csr { rows: n, cols: n, ptr, idx, val }, 1, 1);
         let want: Vec<f64> = (0..n).map(|i| (i as f64 * 0.4).sin()).collect();
         let mut b = vec![0.0; n];
         a.times(&want, &mut b);
