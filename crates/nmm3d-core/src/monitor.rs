@@ -76,23 +76,26 @@ impl MonitorPlan {
 
     fn new(sys: &System, name: String, block: usize, quantities: Vec<Quantity>) -> Self {
         let vol = sys.geometry.blocks[block].volume;
-        let mut w = std::collections::BTreeMap::<usize, (f64, Vec3)>::new();
+        // Sums per cover, by cover index (a dense array: a block may hold 10⁶ MEs).
+        let mut w: Vec<Option<(f64, Vec3)>> = vec![None; sys.covers.covers.len()];
         let elements: Vec<usize> =
             (0..sys.covers.elements.len()).filter(|&e| sys.covers.elements[e].block == block).collect();
         for &e in &elements {
             let k = sys.kernel(e);
             for (a, &c) in sys.covers.elements[e].covers.iter().enumerate() {
-                let slot = w.entry(c).or_insert((0.0, Vec3::zeros()));
+                let slot = w[c].get_or_insert((0.0, Vec3::zeros()));
                 slot.0 += k.integral_w[a] / vol;
                 slot.1 += k.mean_gradient[a] * k.volume / vol;
             }
         }
+        let sums: Vec<(usize, (f64, Vec3))> =
+            w.into_iter().enumerate().filter_map(|(c, s)| s.map(|s| (c, s))).collect();
         Self {
             name,
             block,
             quantities,
-            weights: w.iter().map(|(c, (a, _))| (*c, *a)).collect(),
-            gradients: w.iter().map(|(c, (_, g))| (*c, *g)).collect(),
+            weights: sums.iter().map(|(c, (a, _))| (*c, *a)).collect(),
+            gradients: sums.iter().map(|(c, (_, g))| (*c, *g)).collect(),
             elements,
         }
     }

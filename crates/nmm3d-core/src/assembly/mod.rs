@@ -3,6 +3,7 @@
 pub mod assembler;
 pub mod coupling;
 pub mod dof_map;
+mod product;
 pub mod sparsity;
 
 pub use assembler::Assembler;

@@ -80,23 +80,6 @@ impl SparsityPattern {
         self.row_idx.len()
     }
 
-    /// y = A x for the symmetric matrix whose lower triangle `values` holds on this pattern.
-    pub fn symmetric_times(&self, values: &[f64], x: &[f64], y: &mut [f64]) {
-        y.fill(0.0);
-        for j in 0..self.n {
-            let (lo, hi) = (self.col_ptr[j] as usize, self.col_ptr[j + 1] as usize);
-            let mut column = 0.0;
-            for (&i, &v) in self.row_idx[lo..hi].iter().zip(&values[lo..hi]) {
-                let i = i as usize;
-                y[i] += v * x[j];
-                if i != j {
-                    column += v * x[i];
-                }
-            }
-            y[j] += column;
-        }
-    }
-
     /// xᵀ A x for the symmetric matrix whose lower triangle `values` holds on this pattern.
     pub fn quadratic_form(&self, values: &[f64], x: &[f64]) -> f64 {
         let mut sum = 0.0;

@@ -116,11 +116,31 @@ fn local_stress(sys: &System, e: usize, u: &[Vec3]) -> Mat3 {
     stress_matrix(&sys.initial_stress[e]) + hooke(material(sys, e), &mean_strain(sys, e, u))
 }
 
-/// Tensile part of a symmetric stress (negative principal stresses set to zero).
+/// Tensile part of a symmetric stress (negative principal stresses set to zero). No
+/// eigen-solve when no principal stress changes sign (Sylvester's criterion: a symmetric
+/// matrix is semidefinite iff all its principal minors are) — most MEs of a body under its
+/// weight are compressed throughout.
 fn tensile_part(s: &Mat3) -> Mat3 {
+    if semidefinite(&-s) {
+        return Mat3::zeros();
+    }
+    if semidefinite(s) {
+        return *s;
+    }
     let eig = nalgebra::SymmetricEigen::new(*s);
     let pos = eig.eigenvalues.map(|l| l.max(0.0));
     eig.eigenvectors * Mat3::from_diagonal(&pos) * eig.eigenvectors.transpose()
+}
+
+/// Whether the symmetric `a` is positive semidefinite: its diagonal, 2 × 2 principal minors
+/// and determinant are ≥ 0.
+fn semidefinite(a: &Mat3) -> bool {
+    let minor = |i: usize, j: usize| a[(i, i)] * a[(j, j)] - a[(i, j)] * a[(j, i)];
+    (0..3).all(|i| a[(i, i)] >= 0.0)
+        && minor(0, 1) >= 0.0
+        && minor(0, 2) >= 0.0
+        && minor(1, 2) >= 0.0
+        && a.determinant() >= 0.0
 }
 
 /// Internal force of ME `e` per cover, and the tangent (row-major (3n)²): the rotated elastic
@@ -191,6 +211,29 @@ pub fn rotation_vector(r: &Mat3) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_tensile_part_skips_the_eigen_solve_only_where_no_principal_stress_changes_sign() {
+        let by_eigen = |s: &Mat3| {
+            let eig = nalgebra::SymmetricEigen::new(*s);
+            eig.eigenvectors * Mat3::from_diagonal(&eig.eigenvalues.map(|l| l.max(0.0))) * eig.eigenvectors.transpose()
+        };
+        let q = turn(0.3, -0.7, 1.1);
+        for d in [
+            [-1.0, -2.0, -3.0],
+            [1.0, 2.0, 3.0],
+            [1.0, -2.0, 3.0],
+            [0.0, -1.0, -1.0],
+            [2.0, 0.0, 0.0],
+            [-1e-9, 5.0, 5.0],
+        ] {
+            let s = q * Mat3::from_diagonal(&Vec3::from(d)) * q.transpose();
+            let (got, want) = (tensile_part(&s), by_eigen(&s));
+            assert!((got - want).norm() <= 1e-12 * s.norm(), "{d:?}: {got} vs {want}");
+        }
+        assert!(semidefinite(&Mat3::from_diagonal(&Vec3::new(1.0, 0.0, 2.0))));
+        assert!(!semidefinite(&(q * Mat3::from_diagonal(&Vec3::new(1.0, -1e-6, 2.0)) * q.transpose())));
+    }
 
     fn turn(x: f64, y: f64, z: f64) -> Mat3 {
         nalgebra::Rotation3::new(Vec3::new(x, y, z)).into_inner()
