@@ -1,4 +1,5 @@
-//! Block sparse rows in single precision: the V-cycle's copies of a level's operators.
+//! Block sparse rows: the multigrid hierarchy's operators, in double precision while it is built
+//! (`bsr_algebra.rs`) and in single precision as the V-cycle reads them.
 //!
 //! A V-cycle reads every operator of the hierarchy three or four times per PCG iteration and
 //! little else, so its time is the memory it streams. Elasticity couples nodes by dense 3 × 3
