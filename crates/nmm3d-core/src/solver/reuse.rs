@@ -96,6 +96,9 @@ pub struct ReusingSolver {
     /// The pattern changed since the factor was made (the next factorisation re-analyses).
     pattern_changed: bool,
     renew: bool,
+    /// The largest |value| of the source, once a closeness test needed it (a pass over the
+    /// whole matrix per solve otherwise).
+    scale: Option<f64>,
     /// What the solver did so far.
     pub counts: SolveCounts,
 }
@@ -103,7 +106,8 @@ pub struct ReusingSolver {
 impl ReusingSolver {
     /// Reuse `direct`'s factors as `reuse` says.
     pub fn new(direct: Box<dyn LinearSolver>, reuse: FactorReuse) -> Self {
-        Self { direct, reuse, source: None, pattern_changed: false, renew: false, counts: SolveCounts::default() }
+        let counts = SolveCounts::default();
+        Self { direct, reuse, source: None, pattern_changed: false, renew: false, scale: None, counts }
     }
 
     /// The values of the matrix the current factor (or hierarchy) was made of, on its pattern.
@@ -174,14 +178,14 @@ impl ReusingSolver {
     }
 
     /// Whether `values` (on the factor's pattern) are within the closeness of the factor's.
-    fn close_to_source(&self, values: &[f64]) -> bool {
+    fn close_to_source(&mut self, values: &[f64]) -> bool {
         let Some(s) = self.source.as_ref().filter(|s| !self.pattern_changed && s.values.len() == values.len()) else {
             return false;
         };
         if self.reuse.closeness <= 0.0 {
             return false;
         }
-        let scale = s.values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let scale = *self.scale.get_or_insert_with(|| s.values.iter().fold(0.0f64, |m, v| m.max(v.abs())));
         let limit = self.reuse.closeness * scale;
         s.values.iter().zip(values).all(|(a, b)| (a - b).abs() <= limit)
     }
@@ -196,6 +200,7 @@ impl ReusingSolver {
         }
         // A failed factorisation leaves no usable factor.
         let old = self.source.take();
+        self.scale = None;
         self.direct.factorize(pattern, values)?;
         self.counts.factorizations += 1;
         self.renew = false;
@@ -230,7 +235,7 @@ impl ReusingSolver {
             self.direct.factorize(&src.pattern, &src.values)?;
             self.pattern_changed = true;
         }
-        (self.source, self.renew, self.counts) = (s.source, s.renew, s.counts);
+        (self.source, self.renew, self.counts, self.scale) = (s.source, s.renew, s.counts, None);
         Ok(())
     }
 
