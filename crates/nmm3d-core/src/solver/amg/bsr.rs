@@ -196,7 +196,9 @@ impl<T: Value> Bsr<T> {
         }
     }
 
-    /// The product with the block shape known at compile time (unrolled inner loops).
+    /// The product with the block shape known at compile time (unrolled inner loops, no bounds
+    /// checks: one runtime-shape kernel for all shapes made the 10⁵-ME static run's solves
+    /// 15–20 % slower, measured back to back).
     fn product_by<const R: usize, const C: usize>(&self, x: &[f64], y: &mut [f64], add: bool) {
         y.par_chunks_mut(CHUNK * R).enumerate().for_each(|(c, ys)| {
             for (k, yb) in ys.chunks_exact_mut(R).enumerate() {
@@ -284,11 +286,8 @@ impl<T: Value> Bsr<T> {
 fn block_columns(a: &Csr, rows: std::ops::Range<usize>, bc: u32, out: &mut Vec<u32>) {
     let start = out.len();
     let of_row = |r: usize| a.row(r).0.iter().map(move |&j| j / bc);
-    for c in of_row(rows.start) {
-        if out.len() == start || out[out.len() - 1] != c {
-            out.push(c);
-        }
-    }
+    out.extend(of_row(rows.start));
+    dedup_from(out, start);
     let first = &out[start..];
     let within = |r: usize| {
         let mut k = 0;
@@ -303,15 +302,20 @@ fn block_columns(a: &Csr, rows: std::ops::Range<usize>, bc: u32, out: &mut Vec<u
     if !shared {
         out.extend(rows.skip(1).flat_map(of_row));
         out[start..].sort_unstable();
-        let mut n = start;
-        for k in start..out.len() {
-            if n == start || out[k] != out[n - 1] {
-                out[n] = out[k];
-                n += 1;
-            }
-        }
-        out.truncate(n);
+        dedup_from(out, start);
     }
+}
+
+/// Remove repeats from the sorted `v[start..]`.
+fn dedup_from(v: &mut Vec<u32>, start: usize) {
+    let mut n = start;
+    for k in start..v.len() {
+        if n == start || v[k] != v[n - 1] {
+            v[n] = v[k];
+            n += 1;
+        }
+    }
+    v.truncate(n);
 }
 
 #[cfg(test)]
