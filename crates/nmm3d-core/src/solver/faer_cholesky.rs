@@ -1,6 +1,7 @@
 //! Supernodal sparse Cholesky (faer) with a fill-reducing ordering (METIS nested dissection
 //! for large systems, faer's AMD otherwise). The symbolic factorisation is computed once and
-//! reused for every numeric factorisation while the pattern holds.
+//! reused for every numeric factorisation while the pattern holds; so is the pattern permuted
+//! into the factor's order (`permuted.rs`), into which each factorisation gathers the values.
 //! Runs sequentially (`Par::Seq`): results do not depend on the thread count, and on two
 //! cores threads did not speed faer up (`research/ecosystem.md` §3).
 
@@ -8,7 +9,6 @@ use std::time::Instant;
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltError;
-use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
 };
@@ -16,7 +16,8 @@ use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
-use super::ordering::{nested_dissection, Permutation};
+use super::ordering::{amd, nested_dissection};
+use super::permuted::Permuted;
 use super::{LinearSolver, SolverFailure};
 use crate::assembly::SparsityPattern;
 use crate::scenario::Ordering;
@@ -26,6 +27,11 @@ use crate::scenario::Ordering;
 pub struct FaerCholesky {
     choice: Ordering,
     symbolic: Option<SymbolicCholesky<u32>>,
+    /// The pattern in the factor's order, with the map from the source's entries.
+    permuted: Option<Permuted>,
+    /// The matrix's values in that order (kept between factorisations).
+    gathered: Vec<f64>,
+    /// The factor's values.
     values: Vec<f64>,
     /// Scratch of the numeric factorisation, kept: it is large for supernodal factors, and a
     /// fresh one per factorisation (every open–close iteration) costs its page clearing.
@@ -50,13 +56,16 @@ impl FaerCholesky {
 
     fn analyse(&mut self, p: &SparsityPattern) -> Result<(), SolverFailure> {
         let t = Instant::now();
-        let sym = SymbolicSparseColMatRef::new_checked(p.n, p.n, &p.col_ptr, None, &p.row_idx);
-        let nd: Option<Permutation> = nested_dissection(p, self.choice);
-        let ord = match &nd {
-            Some(perm) => SymmetricOrdering::Custom(PermRef::new_checked(&perm.forward, &perm.inverse, p.n)),
-            None => SymmetricOrdering::Amd,
-        };
+        let nd = nested_dissection(p, self.choice);
         self.ordering = Some(if nd.is_some() { "nested dissection" } else { "amd" });
+        let perm = match nd {
+            Some(perm) => perm,
+            None => amd(p).map_err(SolverFailure::Analysis)?,
+        };
+        let permuted = Permuted::new(p, perm);
+        // faer's analysis of an unpermuted matrix reads its upper triangle.
+        let up = permuted.upper();
+        let sym = SymbolicSparseColMatRef::new_checked(p.n, p.n, &up.col_ptr, None, &up.row_idx);
         // Always supernodal: the matrix is made of dense 3 × 3 blocks within dense element
         // cliques, so supernodes of three columns and more always exist. faer's flop-ratio rule
         // picks the simplicial kernel for fill-free contact systems, which measured 2–3× slower
@@ -65,12 +74,13 @@ impl FaerCholesky {
             supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
             ..Default::default()
         };
-        let s = factorize_symbolic_cholesky(sym, Side::Lower, ord, params)
+        let s = factorize_symbolic_cholesky(sym, Side::Upper, SymmetricOrdering::Identity, params)
             .map_err(|e| SolverFailure::Analysis(format!("{e:?}")))?;
         self.values = vec![0.0; s.len_val()];
         self.scratch = Some(MemBuffer::new(s.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())));
         self.solve_scratch = None;
         self.symbolic = Some(s);
+        self.permuted = Some(permuted);
         self.symbolic_seconds += t.elapsed().as_secs_f64();
         Ok(())
     }
@@ -82,9 +92,12 @@ impl LinearSolver for FaerCholesky {
             self.analyse(p)?;
         }
         let t = Instant::now();
-        let s = self.symbolic.as_ref().expect("analysed above");
-        let sym = SymbolicSparseColMatRef::new_checked(p.n, p.n, &p.col_ptr, None, &p.row_idx);
-        let mat = SparseColMatRef::new(sym, values);
+        let (s, q) = (self.symbolic.as_ref(), self.permuted.as_ref());
+        let (s, q) = s.zip(q).expect("analysed above");
+        q.gather(values, &mut self.gathered);
+        let l = &q.lower;
+        let sym = SymbolicSparseColMatRef::new_checked(l.n, l.n, &l.col_ptr, None, &l.row_idx);
+        let mat = SparseColMatRef::new(sym, &self.gathered);
         let mem = self.scratch.as_mut().expect("allocated with the symbolic factorisation");
         s.factorize_numeric_llt::<f64>(
             &mut self.values,
@@ -98,28 +111,30 @@ impl LinearSolver for FaerCholesky {
         .map_err(|e| {
             let LltError::NonPositivePivot { index } = e;
             // The index is in the fill-reducing order; report the original equation.
-            let equation = s.perm().map_or(index, |perm| perm.arrays().0[index] as usize);
-            SolverFailure::NotPositiveDefinite { equation }
+            SolverFailure::NotPositiveDefinite { equation: q.perm.forward[index] as usize }
         })?;
         self.numeric_seconds += t.elapsed().as_secs_f64();
         Ok(())
     }
 
     fn new_pattern(&mut self) {
-        (self.symbolic, self.scratch, self.solve_scratch) = (None, None, None);
+        (self.symbolic, self.permuted, self.scratch, self.solve_scratch) = (None, None, None, None);
     }
 
     fn solve(&mut self, rhs: &mut [f64]) {
         let n = rhs.len();
-        let s = self.symbolic.as_ref().expect("factorize before solve");
+        let (s, q) = self.symbolic.as_ref().zip(self.permuted.as_ref()).expect("factorize before solve");
         let need = s.solve_in_place_scratch::<f64>(1, Par::Seq);
         let mem = self.solve_scratch.get_or_insert_with(|| MemBuffer::new(need));
+        let mut x = vec![0.0; n];
+        q.to_permuted(rhs, &mut x);
         LltRef::<'_, u32, f64>::new(s, &self.values).solve_in_place_with_conj(
             Conj::No,
-            MatMut::from_column_major_slice_mut(rhs, n, 1),
+            MatMut::from_column_major_slice_mut(&mut x, n, 1),
             Par::Seq,
             MemStack::new(mem),
         );
+        q.from_permuted(&x, rhs);
     }
 
     fn factor_nonzeros(&self) -> usize {

@@ -5,6 +5,7 @@ mod amg;
 mod faer_cholesky;
 pub mod ordering;
 pub mod pcg;
+mod permuted;
 mod reuse;
 
 pub use amg::{AmgParams, AmgSolver};

@@ -41,6 +41,20 @@ pub fn nested_dissection(p: &SparsityPattern, choice: Ordering) -> Option<Permut
     Some(Permutation { forward, inverse })
 }
 
+/// Approximate minimum degree ordering of the pattern's equations (faer's AMD, default
+/// controls).
+pub fn amd(p: &SparsityPattern) -> Result<Permutation, String> {
+    use faer::dyn_stack::{MemBuffer, MemStack};
+    use faer::sparse::linalg::amd;
+    use faer::sparse::SymbolicSparseColMatRef;
+    let a = SymbolicSparseColMatRef::new_checked(p.n, p.n, &p.col_ptr, None, &p.row_idx);
+    let (mut forward, mut inverse) = (vec![0u32; p.n], vec![0u32; p.n]);
+    let mut mem = MemBuffer::new(amd::order_maybe_unsorted_scratch::<u32>(p.n, p.row_idx.len()));
+    amd::order_maybe_unsorted(&mut forward, &mut inverse, a, Default::default(), MemStack::new(&mut mem))
+        .map_err(|e| format!("{e:?}"))?;
+    Ok(Permutation { forward, inverse })
+}
+
 /// Symmetric adjacency (CSR, no self loops) of the 3 × 3 blocks.
 fn block_graph(p: &SparsityPattern, nb: usize) -> (Vec<i32>, Vec<i32>) {
     let mut nbr: Vec<Vec<i32>> = vec![Vec::new(); nb];
