@@ -127,14 +127,14 @@ impl LinearSolver for FaerCholesky {
         let need = s.solve_in_place_scratch::<f64>(1, Par::Seq);
         let mem = self.solve_scratch.get_or_insert_with(|| MemBuffer::new(need));
         let mut x = vec![0.0; n];
-        q.to_permuted(rhs, &mut x);
+        q.permute_into(rhs, &mut x);
         LltRef::<'_, u32, f64>::new(s, &self.values).solve_in_place_with_conj(
             Conj::No,
             MatMut::from_column_major_slice_mut(&mut x, n, 1),
             Par::Seq,
             MemStack::new(mem),
         );
-        q.from_permuted(&x, rhs);
+        q.unpermute_into(&x, rhs);
     }
 
     fn factor_nonzeros(&self) -> usize {

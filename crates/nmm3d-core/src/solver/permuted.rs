@@ -79,12 +79,12 @@ impl Permuted {
     }
 
     /// `x` (original order) into `out` in the permuted order.
-    pub fn to_permuted(&self, x: &[f64], out: &mut [f64]) {
+    pub fn permute_into(&self, x: &[f64], out: &mut [f64]) {
         out.iter_mut().zip(&self.perm.forward).for_each(|(o, &old)| *o = x[old as usize]);
     }
 
     /// `y` (permuted order) back into `x` in the original order.
-    pub fn from_permuted(&self, y: &[f64], x: &mut [f64]) {
+    pub fn unpermute_into(&self, y: &[f64], x: &mut [f64]) {
         y.iter().zip(&self.perm.forward).for_each(|(&v, &old)| x[old as usize] = v);
     }
 }
@@ -151,8 +151,8 @@ mod tests {
         // Vectors go there and back.
         let x: Vec<f64> = (0..n).map(|i| i as f64 * 0.5).collect();
         let (mut y, mut back) = (vec![0.0; n], vec![0.0; n]);
-        q.to_permuted(&x, &mut y);
-        q.from_permuted(&y, &mut back);
+        q.permute_into(&x, &mut y);
+        q.unpermute_into(&y, &mut back);
         assert_eq!(back, x);
         assert_eq!(y[0], x[forward[0] as usize]);
     }
