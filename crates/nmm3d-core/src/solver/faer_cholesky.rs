@@ -31,6 +31,8 @@ pub struct FaerCholesky {
     permuted: Option<Permuted>,
     /// The matrix's values in that order (kept between factorisations).
     gathered: Vec<f64>,
+    /// A right-hand side in that order (kept between solves).
+    permuted_rhs: Vec<f64>,
     /// The factor's values.
     values: Vec<f64>,
     /// Scratch of the numeric factorisation, kept: it is large for supernodal factors, and a
@@ -126,15 +128,16 @@ impl LinearSolver for FaerCholesky {
         let (s, q) = self.symbolic.as_ref().zip(self.permuted.as_ref()).expect("factorize before solve");
         let need = s.solve_in_place_scratch::<f64>(1, Par::Seq);
         let mem = self.solve_scratch.get_or_insert_with(|| MemBuffer::new(need));
-        let mut x = vec![0.0; n];
-        q.permute_into(rhs, &mut x);
+        let x = &mut self.permuted_rhs;
+        x.resize(n, 0.0);
+        q.permute_into(rhs, x);
         LltRef::<'_, u32, f64>::new(s, &self.values).solve_in_place_with_conj(
             Conj::No,
-            MatMut::from_column_major_slice_mut(&mut x, n, 1),
+            MatMut::from_column_major_slice_mut(x, n, 1),
             Par::Seq,
             MemStack::new(mem),
         );
-        q.unpermute_into(&x, rhs);
+        q.unpermute_into(x, rhs);
     }
 
     fn factor_nonzeros(&self) -> usize {

@@ -4,6 +4,10 @@
 //! The ordering is computed on the graph of 3 × 3 blocks (covers), three times smaller than the
 //! DOF graph, and expanded so each cover's three equations stay together.
 
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::sparse::linalg::amd;
+use faer::sparse::SymbolicSparseColMatRef;
+
 use crate::assembly::SparsityPattern;
 use crate::scenario::Ordering;
 
@@ -44,9 +48,6 @@ pub fn nested_dissection(p: &SparsityPattern, choice: Ordering) -> Option<Permut
 /// Approximate minimum degree ordering of the pattern's equations (faer's AMD, default
 /// controls).
 pub fn amd(p: &SparsityPattern) -> Result<Permutation, String> {
-    use faer::dyn_stack::{MemBuffer, MemStack};
-    use faer::sparse::linalg::amd;
-    use faer::sparse::SymbolicSparseColMatRef;
     let a = SymbolicSparseColMatRef::new_checked(p.n, p.n, &p.col_ptr, None, &p.row_idx);
     let (mut forward, mut inverse) = (vec![0u32; p.n], vec![0u32; p.n]);
     let mut mem = MemBuffer::new(amd::order_maybe_unsorted_scratch::<u32>(p.n, p.row_idx.len()));
