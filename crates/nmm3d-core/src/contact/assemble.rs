@@ -92,15 +92,37 @@ impl ContactHistory {
     /// Energy in the springs of the closed points: ½ k_n g² for an overlap, ½ k_s |s|² [J]
     /// (after `accept`; an in-situ preload's share is not counted).
     pub fn spring_energy(&self) -> f64 {
-        self.records
-            .iter()
-            .filter(|r| r.state != ContactState::Open)
-            .map(|r| 0.5 * r.kn * r.gap.min(0.0).powi(2) + 0.5 * r.ks * r.shear0.norm_squared())
+        self.records.iter().map(ContactRecord::spring_energy).sum()
+    }
+
+    /// The energy the points that closed or opened in the step just accepted gave the blocks
+    /// [J], their contact events' share of −(D_c + D_n) (`crate::time::energy`): the work the
+    /// scheme did with their forces at the step's start (as detected or carried) and as the last
+    /// solve applied them, ((1 − γ) f₀ + γ f₁) · rel — a Newmark step with β = γ/2 moves the
+    /// blocks by Δt times their mean velocity and changes their momentum by Δt ((1 − γ) f₀ + γ f₁)
+    /// — less that of their in-situ preloads, plus the change of their springs' energy. `start`:
+    /// the points at the step's start, in the same order (after `accept`). Their friction and
+    /// dashpot dissipation, never negative, are not added: the estimate errs low.
+    pub fn event_gain(&self, start: &[ContactRecord], gamma: f64) -> f64 {
+        let events = self.records.iter().zip(start).filter(|(r, _)| r.opened || r.reclosed > 0);
+        events
+            .map(|(r, s)| {
+                let work = ((1.0 - gamma) * (s.force - s.preload) + gamma * (r.applied - r.preload)).dot(&r.rel);
+                work + r.spring_energy() - s.spring_energy()
+            })
             .sum()
     }
 }
 
 impl ContactRecord {
+    /// Energy in the point's springs if closed [J] (see [`ContactHistory::spring_energy`]).
+    fn spring_energy(&self) -> f64 {
+        match self.state {
+            ContactState::Open => 0.0,
+            _ => 0.5 * self.kn * self.gap.min(0.0).powi(2) + 0.5 * self.ks * self.shear0.norm_squared(),
+        }
+    }
+
     /// Add `force` on A (and its opposite on B) to the per-cover forces `f` through the
     /// material points' weights.
     pub(super) fn scatter(&self, sys: &System, force: &Vec3, f: &mut [Vec3]) {

@@ -25,6 +25,8 @@ pub enum CutReason {
     Overlap,
     /// The same step repeated with the contact penalties raised (Δt kept).
     PenaltyRaised,
+    /// The step gave the blocks energy at its contacts (`analysis.max_energy_gain`).
+    EnergyGain,
 }
 
 impl CutReason {
@@ -35,6 +37,7 @@ impl CutReason {
             Self::OpenCloseUnsettled => "open_close_unsettled",
             Self::Overlap => "overlap",
             Self::PenaltyRaised => "penalty_raised",
+            Self::EnergyGain => "energy_gain",
         }
     }
 }
@@ -51,7 +54,7 @@ pub struct Cut {
     /// Why.
     pub reason: CutReason,
     /// Its measure: the displacement ratio [-], the points that changed state in the last
-    /// open–close iteration [-], or the deepest overlap [m].
+    /// open–close iteration [-], the deepest overlap [m], or the energy gained [J].
     pub value: f64,
     /// The blocks responsible, worst first (at most [`MAX_BLOCKS`]).
     pub blocks: Vec<usize>,
@@ -76,8 +79,13 @@ pub fn moved_too_far(sys: &System, d: &[Vec3], limit: f64) -> Vec<usize> {
 /// Blocks with the most points that changed state in the last open–close iteration (`changes`:
 /// the block pairs of those points).
 pub fn unsettled(changes: &[(usize, usize)]) -> Vec<usize> {
+    counted(changes.iter().copied())
+}
+
+/// The blocks of the pairs `pairs` by how often they appear.
+fn counted(pairs: impl Iterator<Item = (usize, usize)>) -> Vec<usize> {
     let mut count: Vec<(usize, f64)> = Vec::new();
-    for &(a, b) in changes {
+    for (a, b) in pairs {
         for block in [a, b] {
             match count.iter_mut().find(|(x, _)| *x == block) {
                 Some(w) => w.1 += 1.0,
@@ -104,6 +112,13 @@ pub fn overlapping(contacts: Option<&ContactHistory>, depth: f64) -> (Vec<usize>
     }
     let deepest = worst.iter().map(|w| w.1).fold(0.0, f64::max);
     (ranked(worst), deepest)
+}
+
+/// Blocks with the most points that opened or closed during the step's open–close iterations
+/// (where a step gives energy at its contacts).
+pub fn impacts(contacts: Option<&ContactHistory>) -> Vec<usize> {
+    let records = contacts.map_or(&[][..], |c| &c.records);
+    counted(records.iter().filter(|r| r.opened || r.reclosed > 0).map(|r| r.blocks))
 }
 
 /// ": blocks 3 (body \"layer\"), 7 (…)" for the error message, or nothing.
@@ -167,12 +182,17 @@ mod tests {
 
     #[test]
     fn reasons_have_stable_names() {
-        let names: Vec<&str> =
-            [CutReason::DisplacementRatio, CutReason::OpenCloseUnsettled, CutReason::Overlap, CutReason::PenaltyRaised]
-                .iter()
-                .map(|r| r.name())
-                .collect();
-        assert_eq!(names, ["displacement_ratio", "open_close_unsettled", "overlap", "penalty_raised"]);
+        let names: Vec<&str> = [
+            CutReason::DisplacementRatio,
+            CutReason::OpenCloseUnsettled,
+            CutReason::Overlap,
+            CutReason::PenaltyRaised,
+            CutReason::EnergyGain,
+        ]
+        .iter()
+        .map(|r| r.name())
+        .collect();
+        assert_eq!(names, ["displacement_ratio", "open_close_unsettled", "overlap", "penalty_raised", "energy_gain"]);
         for r in [CutReason::Overlap, CutReason::PenaltyRaised] {
             assert_eq!(serde_json::to_value(r).unwrap(), r.name());
         }

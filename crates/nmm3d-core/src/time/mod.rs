@@ -10,6 +10,7 @@ mod counters;
 pub mod cut;
 pub mod energy;
 mod equilibrate;
+mod gain;
 pub mod integrator;
 mod newton;
 mod reach;

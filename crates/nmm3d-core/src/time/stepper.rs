@@ -14,6 +14,7 @@ use super::base_motion::{advance_base, jump_acceleration};
 use super::contact_pattern::ContactPattern;
 use super::cut::{self, Cut, CutReason};
 use super::energy::Energy;
+use super::gain::{self, GainVerdict};
 use super::integrator::{Newmark, StepCoefficients};
 use super::setup::{contact_params, solver};
 use super::state::{State, StepperState};
@@ -193,7 +194,6 @@ impl Stepper {
             start_contact
         };
         let unbalanced = unbalanced_ratio(sys, run, &start_force);
-        let (mv, ma) = (mass_times(sys, &state.v), mass_times(sys, &state.a));
         let mut start_records = contact.as_ref().map(|h| h.records.clone());
         // The springs' energy at the start: the first step's is part of the initial energy
         // (springs loaded by the initial equilibrium or by overlapping input).
@@ -207,12 +207,17 @@ impl Stepper {
             dt = seismic.next_jump(state.time).map_or(dt, |b| dt.min(b - state.time));
             jump_acceleration(sys, state);
         }
+        // M v and M a of the start (after a jump of the base: what `accept` goes on from).
+        let (mv, ma) = (mass_times(sys, &state.v), mass_times(sys, &state.a));
         if Self::balanced_static(sys, run, contact.is_some(), state.step, unbalanced) {
             // Converged before this step's solve: the step is taken with no increment.
             self.accept(sys, (state, run), &vec![Vec3::zeros(); residual.len()], dt);
             return Ok(StepReport { dt, unbalanced, ..StepReport::default() });
         }
         let (mut cuts, mut trials, mut arrivals) = (0, 0, 0);
+        // The energy the last trial gave at its contacts and its Δt, if it was cut for it, and
+        // whether the step may still be cut for it (`gain`).
+        let (mut gain_tried, mut gain_guard) = (None, true);
         let dynamic = run.inertia && !run.locked && analysis.kind != AnalysisKind::Static;
         loop {
             let k = if run.inertia {
@@ -298,6 +303,9 @@ impl Stepper {
                         }
                         false => None,
                     };
+                    // What to go back to if the step gives energy at its contacts (`gain`).
+                    let undo = gain::guarded(analysis, gain_guard && dynamic && contact.is_some())
+                        .then(|| (state.clone(), run.clone()));
                     run.undetected += d.iter().map(|x| x.norm()).fold(0.0, f64::max);
                     let kinetic0 = kinetic_energy(sys, &state.v, &mv);
                     if shaking(sys, run) {
@@ -308,7 +316,6 @@ impl Stepper {
                     let (contacts, max_penetration, friction, springs, damping) = match contact.as_mut() {
                         Some(h) => {
                             let friction = h.accept();
-                            h.travel.add(sys, &d);
                             h.finish_damping(sys, &d);
                             let damping = damper_start.as_ref().map_or(0.0, |f0| h.damping_work(sys, &d, f0));
                             (h.records.len(), h.max_penetration(), friction, h.spring_energy(), damping)
@@ -348,6 +355,25 @@ impl Stepper {
                             contact_work,
                         },
                     );
+                    if let Some((motion, before)) = undo {
+                        let gained = match (contact.as_ref(), start_records.as_ref()) {
+                            (Some(h), Some(start)) => h.event_gain(start, self.newmark.gamma),
+                            _ => 0.0,
+                        };
+                        let verdict = gain::judge(analysis, dt, gained, energy.largest(), gain_tried);
+                        if let GainVerdict::Cut(next) | GainVerdict::Back(next) = verdict {
+                            let why =
+                                self.why(sys, (&motion, contact.as_ref()), dt, CutReason::EnergyGain, (&d, gained));
+                            self.cuts.push(why);
+                            (*state, *run) = (motion, before);
+                            (gain_tried, gain_guard) = (Some((gained, dt)), matches!(verdict, GainVerdict::Cut(_)));
+                            (dt, cuts) = (next, cuts + 1);
+                            continue;
+                        }
+                    }
+                    if let Some(h) = contact.as_mut() {
+                        h.travel.add(sys, &d);
+                    }
                     return Ok(StepReport {
                         dt,
                         cuts,

@@ -120,20 +120,22 @@ impl Stepper {
         true
     }
 
-    /// Why the trial of `dt` is rejected, and the blocks responsible.
+    /// Why the trial of `dt` from `state` is rejected, and the blocks responsible; `measure`:
+    /// the trial's displacement ratio, or the energy it gained (`CutReason::EnergyGain`).
     pub(super) fn why(
         &self,
         sys: &System,
         (state, contacts): (&Motion, Option<&ContactHistory>),
         dt: f64,
         reason: CutReason,
-        (d, ratio): (&[Vec3], f64),
+        (d, measure): (&[Vec3], f64),
     ) -> Cut {
         let (value, blocks) = match reason {
             CutReason::DisplacementRatio => {
                 let limit = sys.scenario.analysis.max_displacement_ratio * sys.half_size;
-                (ratio, cut::moved_too_far(sys, d, limit))
+                (measure, cut::moved_too_far(sys, d, limit))
             }
+            CutReason::EnergyGain => (measure, cut::impacts(contacts)),
             CutReason::OpenCloseUnsettled => (self.last_changes.len() as f64, cut::unsettled(&self.last_changes)),
             CutReason::Overlap | CutReason::PenaltyRaised => {
                 let depth = sys.scenario.contact.max_penetration_ratio * sys.covers.mesh().size;

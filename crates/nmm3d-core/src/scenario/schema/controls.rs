@@ -86,6 +86,10 @@ pub struct Analysis {
     /// differ from those of the updated states by at most this fraction of their sum [-]
     /// (0, the default: only when no point changes state; 1e-3 suits jointed rock masses).
     pub open_close_tolerance: f64,
+    /// A dynamic step with contact whose points that closed or opened gave the blocks more
+    /// energy than this fraction of the run's largest energy account is repeated with Δt ×
+    /// `open_close_cut`, while that halves the energy (0: never) [-] (addition).
+    pub max_energy_gain: f64,
     /// Modified Newton iterations that bring a dynamic step's end to equilibrium with the
     /// co-rotated elements' forces at the end (0: one linear solve per step, as DDA) (addition).
     pub step_equilibrium_iterations: u32,
@@ -200,6 +204,7 @@ impl Default for Analysis {
             max_open_close: 12,
             open_close_cut: 0.3,
             open_close_tolerance: 0.0,
+            max_energy_gain: 0.01,
             step_equilibrium_iterations: 4,
             step_equilibrium_tolerance: 1e-4,
             step_equilibrium_stall: 1e-2,

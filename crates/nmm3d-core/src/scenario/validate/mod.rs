@@ -215,6 +215,9 @@ fn analysis(c: &mut Checker, a: &Analysis) {
     if !(a.step_equilibrium_stall >= a.step_equilibrium_tolerance && a.step_equilibrium_stall < 1.0) {
         c.fail("analysis.step_equilibrium_stall", "must lie in [step_equilibrium_tolerance, 1)");
     }
+    if !(a.max_energy_gain >= 0.0 && a.max_energy_gain.is_finite()) {
+        c.fail("analysis.max_energy_gain", "must be finite and ≥ 0");
+    }
     if !(a.open_close_cut > 0.0 && a.open_close_cut < 1.0) {
         c.fail("analysis.open_close_cut", "must lie in (0, 1)");
     }
