@@ -95,6 +95,12 @@ impl ContactHistory {
         self.records.iter().map(ContactRecord::spring_energy).sum()
     }
 
+    /// Some point opened or closed during this step's open–close iterations (only such a step
+    /// can give the blocks energy at an impact, `crate::time::gain`).
+    pub fn any_event(&self) -> bool {
+        self.records.iter().any(ContactRecord::event)
+    }
+
     /// The energy the points that closed or opened in the step just accepted gave the blocks
     /// [J], their contact events' share of −(D_c + D_n) (`crate::time::energy`): the work the
     /// scheme did with their forces at the step's start (as detected or carried) and as the last
@@ -104,7 +110,7 @@ impl ContactHistory {
     /// the points at the step's start, in the same order (after `accept`). Their friction and
     /// dashpot dissipation, never negative, are not added: the estimate errs low.
     pub fn event_gain(&self, start: &[ContactRecord], gamma: f64) -> f64 {
-        let events = self.records.iter().zip(start).filter(|(r, _)| r.opened || r.reclosed > 0);
+        let events = self.records.iter().zip(start).filter(|(r, _)| r.event());
         events
             .map(|(r, s)| {
                 let work = ((1.0 - gamma) * (s.force - s.preload) + gamma * (r.applied - r.preload)).dot(&r.rel);

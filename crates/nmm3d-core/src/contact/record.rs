@@ -98,6 +98,14 @@ pub struct ContactRecord {
     pub damper: Damper,
 }
 
+impl ContactRecord {
+    /// The point opened or closed during this step's open–close iterations (an impact's or a
+    /// release's point).
+    pub fn event(&self) -> bool {
+        self.opened || self.reclosed > 0
+    }
+}
+
 /// A point's dashpot in the current step (`super::damping`).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 pub struct Damper {

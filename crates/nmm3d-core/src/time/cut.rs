@@ -118,7 +118,7 @@ pub fn overlapping(contacts: Option<&ContactHistory>, depth: f64) -> (Vec<usize>
 /// (where a step gives energy at its contacts).
 pub fn impacts(contacts: Option<&ContactHistory>) -> Vec<usize> {
     let records = contacts.map_or(&[][..], |c| &c.records);
-    counted(records.iter().filter(|r| r.opened || r.reclosed > 0).map(|r| r.blocks))
+    counted(records.iter().filter(|r| r.event()).map(|r| r.blocks))
 }
 
 /// ": blocks 3 (body \"layer\"), 7 (…)" for the error message, or nothing.

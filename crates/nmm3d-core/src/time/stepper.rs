@@ -303,9 +303,11 @@ impl Stepper {
                         }
                         false => None,
                     };
-                    // What to go back to if the step gives energy at its contacts (`gain`).
-                    let undo = gain::guarded(analysis, gain_guard && dynamic && contact.is_some())
-                        .then(|| (state.clone(), run.clone()));
+                    // What to go back to if the step gives energy at its contacts (`gain`; only
+                    // a step where some point opened or closed can).
+                    let events = contact.as_ref().is_some_and(ContactHistory::any_event);
+                    let undo =
+                        gain::guarded(analysis, gain_guard && dynamic && events).then(|| (state.clone(), run.clone()));
                     run.undetected += d.iter().map(|x| x.norm()).fold(0.0, f64::max);
                     let kinetic0 = kinetic_energy(sys, &state.v, &mv);
                     if shaking(sys, run) {
