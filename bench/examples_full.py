@@ -58,15 +58,20 @@ def run(example: Path, timeout: float) -> dict:
     }
 
 
+def cell(text: str) -> str:
+    """`text` as one Markdown table cell (a message may hold newlines or bars)."""
+    return " ".join(text.split()).replace("|", "\\|")
+
+
 def row(name: str, r: dict) -> str:
     if "steps" not in r:
-        return f"| {name} | {r['status']} | | | | | | | {r['wall']:.0f} | {r.get('message', '')} |"
+        return f"| {name} | {r['status']} | | | | | | | {r['wall']:.0f} | {cell(r.get('message', ''))} |"
     cuts = ", ".join(f"{v} {k}" for k, v in sorted(r["cuts"].items())) or "0"
     balance = "–" if r["balance"] is None else f"{r['balance']:.1e}"
     if r["warning"]:
         balance += " (warning)"
     return (f"| {name} | {r['status']} | {r['time']:g} | {r['steps']} | {cuts} | {1e3 * r['overlap']:.3g} | "
-            f"{r['missed']} | {balance} | {r['wall']:.0f} | {r['message']} |")
+            f"{r['missed']} | {balance} | {r['wall']:.0f} | {cell(r['message'])} |")
 
 
 def main() -> None:
