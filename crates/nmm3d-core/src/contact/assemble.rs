@@ -111,16 +111,18 @@ impl ContactHistory {
     /// dashpot dissipation, never negative, are not added: the estimate errs low.
     pub fn event_gain(&self, start: &[ContactRecord], gamma: f64) -> f64 {
         let events = self.records.iter().zip(start).filter(|(r, _)| r.event());
-        events
-            .map(|(r, s)| {
-                let work = ((1.0 - gamma) * (s.force - s.preload) + gamma * (r.applied - r.preload)).dot(&r.rel);
-                work + r.spring_energy() - s.spring_energy()
-            })
-            .sum()
+        events.map(|(r, s)| r.scheme_work(s, gamma) + r.spring_energy() - s.spring_energy()).sum()
     }
 }
 
 impl ContactRecord {
+    /// The work [J] the step did on the blocks with this point's force, from its record `s` at
+    /// the step's start: ((1 − γ) f₀ + γ f₁) · rel less its in-situ preload's (see
+    /// [`ContactHistory::event_gain`]).
+    pub(super) fn scheme_work(&self, s: &ContactRecord, gamma: f64) -> f64 {
+        ((1.0 - gamma) * (s.force - s.preload) + gamma * (self.applied - self.preload)).dot(&self.rel)
+    }
+
     /// Energy in the point's springs if closed [J] (see [`ContactHistory::spring_energy`]).
     fn spring_energy(&self) -> f64 {
         match self.state {

@@ -13,6 +13,7 @@
 //! points inherit. Energy that does not shrink with Δt is not the step's doing: the step is
 //! then kept — or, where the smaller step gave more, the larger one is taken again.
 
+use super::energy::Energy;
 use crate::scenario::Analysis;
 
 /// A repeated step is kept unless its gain fell below this fraction of the last trial's.
@@ -22,6 +23,17 @@ const SHRINK: f64 = 0.5;
 /// with contact).
 pub(super) fn guarded(a: &Analysis, dynamic_contact: bool) -> bool {
     a.max_energy_gain > 0.0 && dynamic_contact
+}
+
+/// The work [J] beyond which the lagged verification's points that overlapped at the step's
+/// start are bounded rather than pushed out (`ContactHistory::bound_pushed_arrivals`): a step's
+/// gain budget, `max_energy_gain` × the run's largest account; unbounded where the gain is not
+/// guarded or no account exists yet (the first step).
+pub(super) fn push_budget(a: &Analysis, dynamic_contact: bool, energy: Option<&Energy>) -> f64 {
+    match energy {
+        Some(e) if guarded(a, dynamic_contact) => a.max_energy_gain * e.largest(),
+        _ => f64::INFINITY,
+    }
 }
 
 /// What to do with a trial that gave the blocks energy.

@@ -219,6 +219,7 @@ impl Stepper {
         // whether the step may still be cut for it (`gain`).
         let (mut gain_tried, mut gain_guard) = (None, true);
         let dynamic = run.inertia && !run.locked && analysis.kind != AnalysisKind::Static;
+        let push_budget = gain::push_budget(analysis, dynamic, run.energy.as_ref());
         loop {
             let k = if run.inertia {
                 self.newmark.coefficients(dt)
@@ -254,10 +255,9 @@ impl Stepper {
             // Lagged verification, where the blocks may have moved into a contact unseen: not
             // while nothing has moved by the contact tolerance since the last detection.
             let moved = contact.as_ref().is_some_and(|h| run.undetected + dmax >= h.params.tolerance);
+            let detect = moved && arrivals < sys.scenario.contact.arrival_rounds;
             if settled
-                && moved
-                && arrivals < sys.scenario.contact.arrival_rounds
-                && self.arrivals(sys, (state, contact.as_mut()), &d, start_records.as_mut())
+                && self.arrivals(sys, (state, contact.as_mut()), &d, start_records.as_mut(), (push_budget, detect))
             {
                 arrivals += 1;
                 continue;

@@ -100,15 +100,24 @@ impl Stepper {
 
     /// Whether contact points arrived during the trial that ends at `state` + `d` (see
     /// [`crate::contact::ContactSurfaces::arrivals`]): they join the step's start records and
-    /// the pattern, and the step is solved again.
+    /// the pattern, and the step is solved again (`detect`: lagged verification is due). So is
+    /// it, first, when points that started the step overlapping with no force gave the blocks
+    /// more than `push_budget` [J] pushing that out ([`ContactHistory::bound_pushed_overlaps`]).
     pub(super) fn arrivals(
         &mut self,
         sys: &System,
         (state, contact): (&Motion, Option<&mut ContactHistory>),
         d: &[Vec3],
         saved: Option<&mut Vec<ContactRecord>>,
+        (push_budget, detect): (f64, bool),
     ) -> bool {
         let (Some(c), Some(h), Some(saved)) = (self.contacts.as_mut(), contact, saved) else { return false };
+        if h.bound_pushed_overlaps(saved, self.newmark.gamma, push_budget) > 0 {
+            return true;
+        }
+        if !detect {
+            return false;
+        }
         let mut end = state.clone();
         end.u.iter_mut().zip(d).for_each(|(u, d)| *u += d);
         let added = c.arrivals(sys, (state, &end), h);
