@@ -25,10 +25,10 @@ pub(super) fn guarded(a: &Analysis, dynamic_contact: bool) -> bool {
     a.max_energy_gain > 0.0 && dynamic_contact
 }
 
-/// The work [J] beyond which the lagged verification's points that overlapped at the step's
-/// start are bounded rather than pushed out (`ContactHistory::bound_pushed_arrivals`): a step's
-/// gain budget, `max_energy_gain` × the run's largest account; unbounded where the gain is not
-/// guarded or no account exists yet (the first step).
+/// The work [J] beyond which a point that starts the step overlapping with no force is bounded
+/// rather than pushed out (`ContactHistory::bound_pushed_overlaps`): a step's gain budget,
+/// `max_energy_gain` × the run's largest account; unbounded where the gain is not guarded or no
+/// account exists yet (the first step).
 pub(super) fn push_budget(a: &Analysis, dynamic_contact: bool, energy: Option<&Energy>) -> f64 {
     match energy {
         Some(e) if guarded(a, dynamic_contact) => a.max_energy_gain * e.largest(),
