@@ -224,7 +224,7 @@ def test_an_overlap_found_at_a_steps_start_is_not_pushed_out_with_energy(tmp_pat
     # Goodman's tunnel on the DDA scheme: at t = 0.1 s a corner of the turning roof block is
     # found 1.9 mm inside its neighbour at a step's start (against the pair's one contact plane),
     # holding no force; its 2·10¹¹ N/m spring pushed it out within that 2 ms step and gave the
-    # blocks 440 J (12 % of the largest account). Bounded, as a missed overlap is, no step gives
+    # blocks 440 J (14 % of the largest account). Bounded, as a missed overlap is, no step gives
     # more than 1 %.
     short = ["analysis.duration=0.12"]
     kept = nmm3d.load(EXAMPLES / "goodman_tunnel.toml", short + ["analysis.max_energy_gain=0.0"]).run(out=tmp_path / "kept")
