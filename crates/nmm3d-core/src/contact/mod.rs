@@ -38,6 +38,7 @@ pub mod detect;
 pub mod facets;
 pub mod friction;
 pub mod history;
+pub mod overlap_bound;
 pub mod penalty;
 pub mod point;
 pub mod record;

@@ -252,8 +252,9 @@ impl Stepper {
             let trial = Trial { residual: trial_residual, mv: &mv, ma: &ma, k, keep };
             let (mut d, iterations, settled) = self.open_close(sys, (state, contact.as_mut()), &trial)?;
             let dmax = d.iter().map(|x| x.norm()).fold(0.0, f64::max);
-            // Lagged verification, where the blocks may have moved into a contact unseen: not
-            // while nothing has moved by the contact tolerance since the last detection.
+            // Lagged verification, where the blocks may have moved into a contact unseen (not
+            // while nothing has moved by the contact tolerance since the last detection); before
+            // it, overlaps the step started with and pushed out with energy are bounded.
             let moved = contact.as_ref().is_some_and(|h| run.undetected + dmax >= h.params.tolerance);
             let detect = moved && arrivals < sys.scenario.contact.arrival_rounds;
             if settled
