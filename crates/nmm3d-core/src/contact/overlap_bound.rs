@@ -21,6 +21,9 @@ impl ContactHistory {
     /// again. Returns how many were bounded (counted in `missed_overlaps`).
     pub fn bound_pushed_overlaps(&mut self, saved: &mut [ContactRecord], gamma: f64, budget: f64) -> usize {
         let mut bounded = 0;
+        if budget == f64::INFINITY {
+            return bounded; // not guarded (a static step, `max_energy_gain = 0`): no scan
+        }
         for k in 0..saved.len().min(self.records.len()) {
             let (r, s) = (&self.records[k], &saved[k]);
             if s.gap0 >= 0.0 || s.force != Vec3::zeros() || r.scheme_work(s, gamma) <= budget {
