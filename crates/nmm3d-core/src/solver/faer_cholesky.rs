@@ -10,15 +10,13 @@ use std::time::Instant;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltError;
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymbolicCholeskyRaw,
-    SymmetricOrdering,
+    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
 };
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
-use super::contact_block::ContactBlock;
-use super::ordering::{amd, nested_dissection, Permutation};
+use super::ordering::{amd, nested_dissection};
 use super::permuted::Permuted;
 use super::{LinearSolver, SolverFailure};
 use crate::assembly::SparsityPattern;
@@ -43,12 +41,6 @@ pub struct FaerCholesky {
     /// Scratch of the triangular solves, kept likewise.
     solve_scratch: Option<MemBuffer>,
     ordering: Option<&'static str>,
-    /// The equations contact springs may touch (empty: none said).
-    contact: Vec<bool>,
-    /// Those equations ordered last, refactorised alone while the rest holds.
-    block: Option<ContactBlock>,
-    /// Partial factorisations of the blocks dropped with their analyses.
-    earlier_partials: u64,
     symbolic_seconds: f64,
     numeric_seconds: f64,
 }
@@ -72,7 +64,6 @@ impl FaerCholesky {
             Some(perm) => perm,
             None => amd(p).map_err(SolverFailure::Analysis)?,
         };
-        let (perm, n_interior) = contact_last(perm, &self.contact);
         let permuted = Permuted::new(p, perm);
         // faer's analysis of an unpermuted matrix reads its upper triangle.
         let up = permuted.upper();
@@ -90,10 +81,6 @@ impl FaerCholesky {
         self.values = vec![0.0; s.len_val()];
         self.scratch = Some(MemBuffer::new(s.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())));
         self.solve_scratch = None;
-        self.earlier_partials += self.block.take().map_or(0, |b| b.partials);
-        if let (Some(ni), SymbolicCholeskyRaw::Supernodal(sn)) = (n_interior, s.raw()) {
-            self.block = ContactBlock::new(sn, &permuted.lower, ni);
-        }
         self.symbolic = Some(s);
         self.permuted = Some(permuted);
         self.symbolic_seconds += t.elapsed().as_secs_f64();
@@ -110,10 +97,6 @@ impl LinearSolver for FaerCholesky {
         let (s, q) = (self.symbolic.as_ref(), self.permuted.as_ref());
         let (s, q) = s.zip(q).expect("analysed above");
         q.gather(values, &mut self.gathered);
-        if let Some(result) = self.block.as_mut().and_then(|b| b.partial(&self.gathered)) {
-            self.numeric_seconds += t.elapsed().as_secs_f64();
-            return result.map_err(|index| SolverFailure::NotPositiveDefinite { equation: q.perm.forward[index] as usize });
-        }
         let l = &q.lower;
         let sym = SymbolicSparseColMatRef::new_checked(l.n, l.n, &l.col_ptr, None, &l.row_idx);
         let mat = SparseColMatRef::new(sym, &self.gathered);
@@ -132,9 +115,6 @@ impl LinearSolver for FaerCholesky {
             // The index is in the fill-reducing order; report the original equation.
             SolverFailure::NotPositiveDefinite { equation: q.perm.forward[index] as usize }
         })?;
-        if let Some(b) = self.block.as_mut() {
-            b.after_full(&self.gathered, &self.values);
-        }
         self.numeric_seconds += t.elapsed().as_secs_f64();
         Ok(())
     }
@@ -151,14 +131,6 @@ impl LinearSolver for FaerCholesky {
         let x = &mut self.permuted_rhs;
         x.resize(n, 0.0);
         q.permute_into(rhs, x);
-        let partial = match (self.block.as_mut(), s.raw()) {
-            (Some(b), SymbolicCholeskyRaw::Supernodal(sn)) => b.solve(sn, &self.values, x),
-            _ => false,
-        };
-        if partial {
-            q.unpermute_into(x, rhs);
-            return;
-        }
         LltRef::<'_, u32, f64>::new(s, &self.values).solve_in_place_with_conj(
             Conj::No,
             MatMut::from_column_major_slice_mut(x, n, 1),
@@ -175,60 +147,6 @@ impl LinearSolver for FaerCholesky {
     fn timings(&self) -> (f64, f64) {
         (self.symbolic_seconds, self.numeric_seconds)
     }
-
-    fn contact_equations(&mut self, mask: &[bool]) {
-        if mask == self.contact.as_slice() {
-            return;
-        }
-        // Re-analysed when an equation joins that the block lacks.
-        let lacks = match (&self.block, self.permuted.as_ref()) {
-            (Some(b), Some(q)) => {
-                let first = q.perm.forward.len() - b.len();
-                mask.iter().zip(&q.perm.inverse).any(|(&c, &at)| c && (at as usize) < first)
-            }
-            _ => mask.iter().any(|&c| c) && !contact_block_too_large(mask),
-        };
-        self.contact.clear();
-        self.contact.extend_from_slice(mask);
-        if lacks && self.symbolic.is_some() {
-            self.new_pattern();
-        }
-    }
-
-    fn new_step(&mut self) {
-        if let Some(b) = self.block.as_mut() {
-            b.new_step();
-        }
-    }
-
-    fn partial_factorizations(&self) -> u64 {
-        self.earlier_partials + self.block.as_ref().map_or(0, |b| b.partials)
-    }
-}
-
-/// Largest share of the equations that the contact block may hold: beyond it a partial
-/// factorisation saves little (a web of touching blocks is all contact).
-pub const CONTACT_BLOCK_MAX_SHARE: f64 = 0.25;
-
-fn contact_block_too_large(mask: &[bool]) -> bool {
-    let nb = mask.iter().filter(|&&c| c).count();
-    nb as f64 > CONTACT_BLOCK_MAX_SHARE * mask.len() as f64
-}
-
-/// `perm` with the contact equations moved last (each part keeping its order) and the count
-/// of the others; unchanged (`None`) without contact equations or with too many.
-fn contact_last(perm: Permutation, contact: &[bool]) -> (Permutation, Option<usize>) {
-    if contact.len() != perm.forward.len() || !contact.iter().any(|&c| c) || contact_block_too_large(contact) {
-        return (perm, None);
-    }
-    let (mut forward, last): (Vec<u32>, Vec<u32>) = perm.forward.iter().partition(|&&old| !contact[old as usize]);
-    let n_interior = forward.len();
-    forward.extend(last);
-    let mut inverse = vec![0u32; forward.len()];
-    for (new, &old) in forward.iter().enumerate() {
-        inverse[old as usize] = new as u32;
-    }
-    (Permutation { forward, inverse }, Some(n_interior))
 }
 
 #[cfg(test)]

@@ -2,7 +2,6 @@
 //! iterative PCG, PETSc for one huge model) can be added without touching the stepper.
 
 mod amg;
-mod contact_block;
 mod faer_cholesky;
 pub mod ordering;
 pub mod pcg;
@@ -54,15 +53,6 @@ pub trait LinearSolver: Send {
     }
     /// Iterations the solver made inside its own solves so far (an iterative solver's).
     fn iterations(&self) -> u64 {
-        0
-    }
-    /// The equations contact springs may touch (a mask over the equations): a direct solver
-    /// orders them last and refactorises only their block while the rest of the matrix holds.
-    fn contact_equations(&mut self, _mask: &[bool]) {}
-    /// A new time step: its first factorisation is made in full.
-    fn new_step(&mut self) {}
-    /// Factorisations made on the contact block alone so far.
-    fn partial_factorizations(&self) -> u64 {
         0
     }
 }

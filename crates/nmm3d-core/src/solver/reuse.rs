@@ -244,21 +244,6 @@ impl ReusingSolver {
         self.direct.factor_nonzeros()
     }
 
-    /// Factorisations made on the contact block alone ([`LinearSolver::partial_factorizations`]).
-    pub fn partial_factorizations(&self) -> u64 {
-        self.direct.partial_factorizations()
-    }
-
-    /// The equations contact springs may touch ([`LinearSolver::contact_equations`]).
-    pub fn contact_equations(&mut self, mask: &[bool]) {
-        self.direct.contact_equations(mask);
-    }
-
-    /// A new time step ([`LinearSolver::new_step`]).
-    pub fn new_step(&mut self) {
-        self.direct.new_step();
-    }
-
     /// Seconds spent in symbolic analysis and in numeric factorisation so far.
     pub fn timings(&self) -> (f64, f64) {
         self.direct.timings()

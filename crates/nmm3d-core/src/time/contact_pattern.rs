@@ -29,9 +29,6 @@ pub struct ContactPattern {
     last_closed: FxHashMap<(usize, usize), u64>,
     /// Times the pattern grew.
     pub rebuilds: u64,
-    /// The equations of the pairs' covers (the only ones contact springs touch), once a pair
-    /// was added.
-    equations: Vec<bool>,
 }
 
 /// A pattern grown by contact couplings.
@@ -97,7 +94,7 @@ impl ContactPattern {
             .map(|&(a, b)| Coupling::try_new(pattern, &sys.dofs, &pair_clique(sys, a, b)).map(|c| ((a, b), c)))
             .collect();
         let Some(fitted) = fitted else { return false };
-        let _ = self.grown.get_or_insert_with(|| {
+        let grown = self.grown.get_or_insert_with(|| {
             let elements = &sys.assembler.pattern;
             Grown {
                 pattern: elements.clone(),
@@ -105,29 +102,8 @@ impl ContactPattern {
                 couplings: FxHashMap::default(),
             }
         });
-        self.mark(sys, fitted.iter().map(|(p, _)| *p));
-        let grown = self.grown.as_mut().expect("made above");
         grown.couplings.extend(fitted);
         true
-    }
-
-    /// The equations contact springs may touch (empty before any pair).
-    pub fn equations(&self) -> &[bool] {
-        &self.equations
-    }
-
-    /// Mark the equations of the pairs' covers.
-    fn mark(&mut self, sys: &System, pairs: impl Iterator<Item = (usize, usize)>) {
-        self.equations.resize(sys.dofs.n_eq, false);
-        for (a, b) in pairs {
-            for m in masters_of(&sys.dofs, &pair_clique(sys, a, b)).0 {
-                for i in 0..3 {
-                    if let Some(e) = sys.dofs.eq(m, i) {
-                        self.equations[e] = true;
-                    }
-                }
-            }
-        }
     }
 
     /// The pattern of the elements plus a clique per pair in `pairs` (sorted).
@@ -139,8 +115,6 @@ impl ContactPattern {
         let from_elements = elements.embedding(&pattern);
         let couplings = pairs.iter().zip(&cliques).map(|(&p, c)| (p, Coupling::new(&pattern, &sys.dofs, c))).collect();
         self.grown = Some(Grown { pattern, from_elements, couplings });
-        self.equations.clear();
-        self.mark(sys, pairs.iter().copied());
     }
 
     /// What rebuilds this pattern exactly (checkpoints): its pairs and their last closing steps.
@@ -155,8 +129,7 @@ impl ContactPattern {
 
     /// The pattern a snapshot describes.
     pub fn restore(sys: &System, s: &PatternSnapshot) -> Self {
-        let last_closed = s.last_closed.iter().copied().collect();
-        let mut p = Self { grown: None, last_closed, rebuilds: s.rebuilds, equations: Vec::new() };
+        let mut p = Self { grown: None, last_closed: s.last_closed.iter().copied().collect(), rebuilds: s.rebuilds };
         if s.grown {
             p.grow(sys, &s.pairs);
         }

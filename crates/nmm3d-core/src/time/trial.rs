@@ -58,7 +58,6 @@ impl Stepper {
         if self.pattern.ensure(sys, &h.closed_pairs(), step) {
             self.solver.new_pattern();
         }
-        self.solver.contact_equations(self.pattern.equations());
         self.times.pattern += t.elapsed().as_secs_f64();
     }
 
