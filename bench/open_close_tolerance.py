@@ -58,11 +58,10 @@ def main() -> None:
     load0 = os.getloadavg()[0]
     lines = []
     for name, scenario, monitor, settings in CASES:
-        reference = None
-        for dt, tolerance in settings:
-            s = run(scenario, dt, tolerance)
+        runs = [(dt, tolerance, run(scenario, dt, tolerance)) for dt, tolerance in settings]
+        reference = moved(runs[0][2], monitor)
+        for dt, tolerance, s in runs:
             d = moved(s, monitor)
-            reference = reference if reference is not None else d
             lines.append(
                 f"| {name} | {1e3 * dt:g} | {tolerance:g} | {d:.4f} | {100 * (d / reference - 1):+.1f} % | "
                 f"{s['steps']} | {s['step_cuts']} | {s['open_close_iterations']} | {s['factorizations']} | "
