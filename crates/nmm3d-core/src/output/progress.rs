@@ -122,7 +122,7 @@ impl Progress {
             self.warned_collapse = true;
             self.note(&format!(
                 "  note: the time step has collapsed to {:.3e} s ({:.2} % of dt = {} s) at t = {:.6} s: diagnostics.csv gives the cuts per step; \
-                 for jointed rock try analysis.open_close_tolerance = 1e-3 (docs/scenario.md)",
+                 for jointed rock try analysis.open_close_tolerance = 1e-4, or 1e-3 for blocks sliding as a layer (docs/open-close-tolerance.md)",
                 report.dt, 100.0 * report.dt / a.dt, a.dt, state.time
             ));
         }
