@@ -13,16 +13,12 @@ factorisations and the wall time.
 
 from __future__ import annotations
 
-import json
 import math
 import os
-import subprocess
-import sys
-import tempfile
-import time
 from pathlib import Path
 
 from _page import write_page
+from _run import run_scenario
 
 ROOT = Path(__file__).resolve().parent.parent
 PAGE = ROOT / "docs" / "open-close-tolerance.md"
@@ -41,17 +37,8 @@ CASES = [
 
 
 def run(scenario: Path, dt: float, tolerance: float, turn: float | None) -> dict:
-    with tempfile.TemporaryDirectory() as tmp:
-        out = Path(tmp) / "out"
-        sets = ["--set", f"analysis.dt={dt}", "--set", f"analysis.open_close_tolerance={tolerance}"]
-        if turn is not None:
-            sets += ["--set", f"contact.slip_turn={turn}"]
-        t0 = time.perf_counter()
-        subprocess.run([sys.executable, "-m", "nmm3d", "run", str(scenario), "--out", str(out), "--quiet", *sets],
-                       check=True, capture_output=True, text=True)
-        wall = time.perf_counter() - t0
-        s = json.loads((out / "summary.json").read_text())
-    return {**s, "wall": wall}
+    sets = [f"analysis.dt={dt}", f"analysis.open_close_tolerance={tolerance}"]
+    return run_scenario(scenario, sets + ([] if turn is None else [f"contact.slip_turn={turn}"]))
 
 
 def moved(s: dict, monitor: str) -> float:

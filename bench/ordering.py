@@ -12,16 +12,12 @@ open–close iteration's path.
 
 from __future__ import annotations
 
-import json
 import math
 import os
-import subprocess
-import sys
-import tempfile
-import time
 from pathlib import Path
 
 from _page import write_page
+from _run import run_scenario
 
 ROOT = Path(__file__).resolve().parent.parent
 PAGE = ROOT / "docs" / "ordering.md"
@@ -37,18 +33,6 @@ CASES = [
 ORDERINGS = ["amd", "nested_dissection"]
 
 
-def run(scenario: Path, sets: list[str]) -> dict:
-    with tempfile.TemporaryDirectory() as tmp:
-        out = Path(tmp) / "out"
-        args = [a for s in sets for a in ("--set", s)]
-        t0 = time.perf_counter()
-        subprocess.run([sys.executable, "-m", "nmm3d", "run", str(scenario), "--out", str(out), "--quiet", *args],
-                       check=True, capture_output=True, text=True)
-        wall = time.perf_counter() - t0
-        s = json.loads((out / "summary.json").read_text())
-    return {**s, "wall": wall}
-
-
 def moved(s: dict, monitor: str | None) -> str:
     """How far the monitored point went [m], or a dash."""
     if monitor is None:
@@ -61,7 +45,7 @@ def main() -> None:
     lines = []
     for name, scenario, monitor, sets in CASES:
         for ordering in ORDERINGS:
-            s = run(scenario, [*sets, f"analysis.ordering={ordering}"])
+            s = run_scenario(scenario, [*sets, f"analysis.ordering={ordering}"])
             t = s["timings"]
             lines.append(
                 f"| {name} | {s['dofs']} | {ordering.replace('_', ' ')} | {s['factor_nonzeros']:,} | "

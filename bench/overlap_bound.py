@@ -14,15 +14,11 @@ points bounded (`missed_overlaps`); the deepest overlap; steps; open–close ite
 from __future__ import annotations
 
 import csv
-import json
 import os
-import subprocess
-import sys
-import tempfile
-import time
 from pathlib import Path
 
 from _page import write_page
+from _run import run_scenario
 
 ROOT = Path(__file__).resolve().parent.parent
 PAGE = ROOT / "docs" / "overlap-bound.md"
@@ -47,18 +43,13 @@ def largest_step_gain(diagnostics: Path) -> tuple[float, float, float]:
 
 
 def run(scenario: Path, bound: bool) -> dict:
-    with tempfile.TemporaryDirectory() as tmp:
-        out = Path(tmp) / "out"
-        args = [] if bound else ["--set", "analysis.max_energy_gain=0"]
-        t0 = time.perf_counter()
-        subprocess.run([sys.executable, "-m", "nmm3d", "run", str(scenario), "--out", str(out), "--quiet", *args],
-                       check=True, capture_output=True, text=True)
-        wall = time.perf_counter() - t0
-        s = json.loads((out / "summary.json").read_text())
-        gain, at, scale = largest_step_gain(out / "diagnostics.csv")
-    return {"gain": gain, "at": at, "scale": scale, "missed": s["missed_overlaps"],
+    def read(out: Path) -> dict:
+        return dict(zip(("gain", "at", "scale"), largest_step_gain(out / "diagnostics.csv")))
+
+    s = run_scenario(scenario, [] if bound else ["analysis.max_energy_gain=0"], read)
+    return {"gain": s["gain"], "at": s["at"], "scale": s["scale"], "missed": s["missed_overlaps"],
             "overlap": 1e3 * s["max_penetration"], "steps": s["steps"], "iterations": s["open_close_iterations"],
-            "balance": s["energy"]["max_error_ratio"], "wall": wall}
+            "balance": s["energy"]["max_error_ratio"], "wall": s["wall"]}
 
 
 def row(name: str, how: str, r: dict) -> str:
