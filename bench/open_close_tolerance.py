@@ -5,8 +5,8 @@ Run: python bench/open_close_tolerance.py
 The open–close iteration may settle once the contact forces of its last solve differ from those
 of the updated states by at most this fraction of their sum (docs/theory/contact.md, "Why a
 force tolerance"): fewer iterations, each a factorisation, but contact forces that are not
-exactly the states'. Each case runs at the example's own settings and with the tolerance and
-the step changed, back to back; the answer a rock engineer reads (how far the moving key block
+exactly the states'. Each case runs at the example's own settings and with the tolerance, the
+step or the friction-turn criterion changed, back to back; the answer a rock engineer reads (how far the moving key block
 or the slope's toe block went) is set beside the step count, the iterations, the
 factorisations and the wall time.
 """
