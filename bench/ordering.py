@@ -3,8 +3,9 @@
 Run: python bench/ordering.py
 
 Below 2 000 covers `analysis.ordering = "auto"` takes faer's AMD, from 2 000 on METIS nested
-dissection (docs/theory/solver.md). Each case here runs twice, back to back, with the ordering
-forced each way: the factor's size, the time spent in numeric factorisations and in the
+dissection; `"smallest"` analyses both at every new pattern and keeps the smaller factor
+(docs/theory/solver.md). Each case here runs three times, back to back, with the ordering forced
+each way: the factor's size, the time spent in numeric factorisations and in the
 orderings with their symbolic analyses, and the wall time. The answer (the monitored point's
 travel) is set beside them: a different ordering changes the round-off, and with it the
 open–close iteration's path.
@@ -30,7 +31,7 @@ CASES = [
     ("Yade-matched dominos, 3 s (ten thin plates, 0.1 m cover)", ROOT / "bench" / "peers" / "dominos_yade_match.toml",
      None, ["analysis.duration=3.0"]),
 ]
-ORDERINGS = ["amd", "nested_dissection"]
+ORDERINGS = ["amd", "nested_dissection", "smallest"]
 
 
 def moved(s: dict, monitor: str | None) -> str:
@@ -53,8 +54,9 @@ def main() -> None:
                 f"{s['pattern_rebuilds']} | {moved(s, monitor)} | {s['wall']:.1f} |")
             print(lines[-1], flush=True)
     write_page(PAGE, "Fill-reducing orderings on rock masses", "ordering.py", load0, [
-        "Each case runs with `analysis.ordering` forced to AMD and to nested dissection (METIS), back to",
-        "back. *Factor*: stored entries of the Cholesky factor at the end of the run; *factorising*: the",
+        "Each case runs with `analysis.ordering` forced to AMD, to nested dissection (METIS) and to",
+        "`smallest` (both analysed at every new pattern, the smaller factor kept), back to back.",
+        "*Factor*: stored entries of the Cholesky factor at the end of the run; *factorising*: the",
         "numeric factorisations' time; *ordering*: the orderings and symbolic analyses, one per growth",
         "of the sparsity pattern; *moved*: the monitored point's travel [m] (a different ordering changes",
         "the round-off and, with it, the open–close iteration's path — compare with the spread in",

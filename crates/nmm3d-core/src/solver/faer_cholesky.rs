@@ -1,7 +1,8 @@
 //! Supernodal sparse Cholesky (faer) with a fill-reducing ordering (METIS nested dissection
-//! for large systems, faer's AMD otherwise). The symbolic factorisation is computed once and
-//! reused for every numeric factorisation while the pattern holds; so is the pattern permuted
-//! into the factor's order (`permuted.rs`), into which each factorisation gathers the values.
+//! for large systems, faer's AMD otherwise, or whichever of the two makes the smaller factor).
+//! The symbolic factorisation is computed once and reused for every numeric factorisation while
+//! the pattern holds; so is the pattern permuted into the factor's order (`permuted.rs`), into
+//! which each factorisation gathers the values.
 //! Runs sequentially (`Par::Seq`): results do not depend on the thread count, and on two
 //! cores threads did not speed faer up (`research/ecosystem.md` §3).
 
@@ -16,7 +17,7 @@ use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
-use super::ordering::{amd, nested_dissection};
+use super::ordering::{amd, nested_dissection, Permutation};
 use super::permuted::Permuted;
 use super::{LinearSolver, SolverFailure};
 use crate::assembly::SparsityPattern;
@@ -59,25 +60,21 @@ impl FaerCholesky {
     fn analyse(&mut self, p: &SparsityPattern) -> Result<(), SolverFailure> {
         let t = Instant::now();
         let nd = nested_dissection(p, self.choice);
-        self.ordering = Some(if nd.is_some() { "nested dissection" } else { "amd" });
-        let perm = match nd {
-            Some(perm) => perm,
-            None => amd(p).map_err(SolverFailure::Analysis)?,
-        };
-        let permuted = Permuted::new(p, perm);
-        // faer's analysis of an unpermuted matrix reads its upper triangle.
-        let up = permuted.upper();
-        let sym = SymbolicSparseColMatRef::new_checked(p.n, p.n, &up.col_ptr, None, &up.row_idx);
-        // Always supernodal: the matrix is made of dense 3 × 3 blocks within dense element
-        // cliques, so supernodes of three columns and more always exist. faer's flop-ratio rule
-        // picks the simplicial kernel for fill-free contact systems, which measured 2–3× slower
-        // (dominos: 11 s → 4 s of factorisation; pile of 3000 blocks: 9.5 s → 4.3 s).
-        let params = CholeskySymbolicParams {
-            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
-            ..Default::default()
-        };
-        let s = factorize_symbolic_cholesky(sym, Side::Upper, SymmetricOrdering::Identity, params)
-            .map_err(|e| SolverFailure::Analysis(format!("{e:?}")))?;
+        let amd_too = nd.is_none() || self.choice == Ordering::Smallest;
+        let mut best: Option<(&'static str, Permuted, SymbolicCholesky<u32>)> = None;
+        if amd_too {
+            let perm = amd(p).map_err(SolverFailure::Analysis)?;
+            let (permuted, s) = symbolic(p, perm)?;
+            best = Some(("amd", permuted, s));
+        }
+        if let Some(perm) = nd {
+            let (permuted, s) = symbolic(p, perm)?;
+            if best.as_ref().is_none_or(|b| s.len_val() < b.2.len_val()) {
+                best = Some(("nested dissection", permuted, s));
+            }
+        }
+        let (name, permuted, s) = best.expect("one ordering analysed");
+        self.ordering = Some(name);
         self.values = vec![0.0; s.len_val()];
         self.scratch = Some(MemBuffer::new(s.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())));
         self.solve_scratch = None;
@@ -86,6 +83,25 @@ impl FaerCholesky {
         self.symbolic_seconds += t.elapsed().as_secs_f64();
         Ok(())
     }
+}
+
+/// The pattern permuted by `perm` and the symbolic factorisation of that order.
+fn symbolic(p: &SparsityPattern, perm: Permutation) -> Result<(Permuted, SymbolicCholesky<u32>), SolverFailure> {
+    let permuted = Permuted::new(p, perm);
+    // faer's analysis of an unpermuted matrix reads its upper triangle.
+    let up = permuted.upper();
+    let sym = SymbolicSparseColMatRef::new_checked(p.n, p.n, &up.col_ptr, None, &up.row_idx);
+    // Always supernodal: the matrix is made of dense 3 × 3 blocks within dense element
+    // cliques, so supernodes of three columns and more always exist. faer's flop-ratio rule
+    // picks the simplicial kernel for fill-free contact systems, which measured 2–3× slower
+    // (dominos: 11 s → 4 s of factorisation; pile of 3000 blocks: 9.5 s → 4.3 s).
+    let params = CholeskySymbolicParams {
+        supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+        ..Default::default()
+    };
+    let s = factorize_symbolic_cholesky(sym, Side::Upper, SymmetricOrdering::Identity, params)
+        .map_err(|e| SolverFailure::Analysis(format!("{e:?}")))?;
+    Ok((permuted, s))
 }
 
 impl LinearSolver for FaerCholesky {
@@ -173,9 +189,52 @@ mod tests {
         (SparsityPattern { n, col_ptr, row_idx }, values)
     }
 
+    /// A grid of `nx × ny × nz` covers (7-point stencil, 3 × 3 blocks), diagonally dominant.
+    fn grid(nx: usize, ny: usize, nz: usize) -> (SparsityPattern, Vec<f64>) {
+        let id = |i: usize, j: usize, k: usize| i + nx * (j + ny * k);
+        let n = nx * ny * nz;
+        let dofs = crate::assembly::DofMap::new(&vec![false; n], &vec![None; n]);
+        let mut cliques = Vec::new();
+        for (i, j, k) in (0..nz).flat_map(|k| (0..ny).flat_map(move |j| (0..nx).map(move |i| (i, j, k)))) {
+            for (di, dj, dk) in [(1, 0, 0), (0, 1, 0), (0, 0, 1)] {
+                if i + di < nx && j + dj < ny && k + dk < nz {
+                    cliques.push(vec![id(i, j, k), id(i + di, j + dj, k + dk)]);
+                }
+            }
+        }
+        let p = SparsityPattern::from_cliques(&dofs, cliques.iter().map(|c| c.as_slice()));
+        let values = (0..p.n)
+            .flat_map(|j| (p.col_ptr[j]..p.col_ptr[j + 1]).map(move |e| (j, e as usize)))
+            .map(|(j, e)| if p.row_idx[e] as usize == j { 10.0 } else { -0.1 })
+            .collect();
+        (p, values)
+    }
+
+    #[test]
+    fn smallest_keeps_the_smaller_factor_of_amd_and_nested_dissection() {
+        // A cube of covers (nested dissection's factor is smaller) and a long thin bar (AMD's).
+        let mut winners = Vec::new();
+        for (p, v) in [grid(12, 12, 12), grid(3, 3, 60)] {
+            let solved = |o: Ordering| {
+                let mut s = FaerCholesky::new(o);
+                s.factorize(&p, &v).expect("positive definite");
+                let mut x = vec![1.0; p.n];
+                s.solve(&mut x);
+                (s.factor_nonzeros(), s.ordering(), x)
+            };
+            let (amd, nd) = (solved(Ordering::Amd), solved(Ordering::NestedDissection));
+            let smallest = solved(Ordering::Smallest);
+            let want = if nd.0 < amd.0 { &nd } else { &amd };
+            assert_eq!((smallest.0, smallest.1), (want.0, want.1), "AMD {} entries, ND {}", amd.0, nd.0);
+            assert_eq!(smallest.2, want.2, "the same order solves the same way");
+            winners.push(want.1);
+        }
+        assert_eq!(winners, [Some("nested dissection"), Some("amd")], "each ordering wins once");
+    }
+
     #[test]
     fn a_non_positive_pivot_is_reported_at_its_own_equation() {
-        for ordering in [Ordering::Amd, Ordering::NestedDissection, Ordering::Auto] {
+        for ordering in [Ordering::Amd, Ordering::NestedDissection, Ordering::Auto, Ordering::Smallest] {
             for bad in [3, 7, 11] {
                 let (p, v) = chain(12, |j| if j == bad { -1.0 } else { 10.0 });
                 let mut s = FaerCholesky::new(ordering);

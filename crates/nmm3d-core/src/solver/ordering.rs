@@ -24,13 +24,14 @@ pub struct Permutation {
 }
 
 /// Nested-dissection ordering of the pattern's equations, when `choice` asks for it (`Auto`:
-/// from `ND_MIN_BLOCKS` covers on); `None` means AMD.
+/// from `ND_MIN_BLOCKS` covers on; `Smallest`: always, to be compared with AMD); `None` means
+/// AMD.
 pub fn nested_dissection(p: &SparsityPattern, choice: Ordering) -> Option<Permutation> {
     let nb = p.n / 3;
     let wanted = match choice {
         Ordering::Auto => nb >= ND_MIN_BLOCKS,
         Ordering::Amd => false,
-        Ordering::NestedDissection => nb > 0,
+        Ordering::NestedDissection | Ordering::Smallest => nb > 0,
     };
     if !wanted || !p.n.is_multiple_of(3) {
         return None;

@@ -148,6 +148,9 @@ pub enum Ordering {
     Amd,
     /// METIS nested dissection.
     NestedDissection,
+    /// Both analysed at every new pattern, the smaller factor kept (AMD on a tie): which wins
+    /// depends on the blocks' shape (docs/ordering.md).
+    Smallest,
 }
 
 /// Which linear solver solves the systems.
