@@ -48,6 +48,21 @@ def test_auto_takes_multigrid_for_a_large_single_block_and_the_direct_solver_oth
     assert (summary["blocks"], summary["linear_solver"]) == (2, "direct")
 
 
+def test_the_smallest_ordering_keeps_the_smaller_factor_and_solves_as_that_ordering(tmp_path):
+    """`ordering = "smallest"` analyses AMD and nested dissection and keeps the smaller factor
+    (docs/ordering.md): the same factor, and the same answer, as the ordering it picked."""
+    two = block(6, max_steps=3)
+    two["joint"] = [{"name": "bedding", "friction_angle": 30.0}]
+    two["joint_plane"] = [{"point": [3.0, 3.0, 3.0], "dip": 0.0, "dip_direction": 0.0, "joint": "bedding"}]
+    got = {o: run({**two, "analysis": {**two["analysis"], "ordering": o}}, tmp_path, o)
+           for o in ("amd", "nested_dissection", "smallest")}
+    size = {o: s["factor_nonzeros"] for o, s in got.items()}
+    assert size["amd"] != size["nested_dissection"], size
+    picked = min(("amd", "nested_dissection"), key=lambda o: size[o])
+    assert size["smallest"] == size[picked]
+    assert got["smallest"]["final"] == got[picked]["final"]
+
+
 @pytest.mark.parametrize("key, value", [("amg_tolerance", 0.0), ("amg_tolerance", 1.5), ("amg_newton_tolerance", -1e-3),
                                         ("linear_solver", "lu")])
 def test_bad_solver_keys_are_refused_by_name(key, value):
