@@ -21,6 +21,14 @@ def block(n: int, **analysis) -> dict:
     return s
 
 
+def two_blocks(n: int, **analysis) -> dict:
+    """The block cut in two by a horizontal joint at mid-height: contact springs between them."""
+    s = block(n, **analysis)
+    s["joint"] = [{"name": "bedding", "friction_angle": 30.0}]
+    s["joint_plane"] = [{"point": [n / 2, n / 2, n / 2], "dip": 0.0, "dip_direction": 0.0, "joint": "bedding"}]
+    return s
+
+
 def run(scenario: dict, tmp_path, name: str) -> dict:
     return nmm3d.Scenario.from_dict(scenario).run(out=tmp_path / name).summary
 
@@ -41,21 +49,14 @@ def test_auto_takes_multigrid_for_a_large_single_block_and_the_direct_solver_oth
     assert run(block(6, amg_min_equations=500), tmp_path, "large")["linear_solver"] == "amg"
     assert run(block(6), tmp_path, "small")["linear_solver"] == "direct"
     # Two blocks: contact springs, which multigrid handles poorly — direct whatever the size.
-    two = block(6, amg_min_equations=500)
-    two["joint"] = [{"name": "bedding", "friction_angle": 30.0}]
-    two["joint_plane"] = [{"point": [3.0, 3.0, 3.0], "dip": 0.0, "dip_direction": 0.0, "joint": "bedding"}]
-    summary = run(two, tmp_path, "two")
+    summary = run(two_blocks(6, amg_min_equations=500), tmp_path, "two")
     assert (summary["blocks"], summary["linear_solver"]) == (2, "direct")
 
 
 def test_the_smallest_ordering_keeps_the_smaller_factor_and_solves_as_that_ordering(tmp_path):
     """`ordering = "smallest"` analyses AMD and nested dissection and keeps the smaller factor
     (docs/ordering.md): the same factor, and the same answer, as the ordering it picked."""
-    two = block(6, max_steps=3)
-    two["joint"] = [{"name": "bedding", "friction_angle": 30.0}]
-    two["joint_plane"] = [{"point": [3.0, 3.0, 3.0], "dip": 0.0, "dip_direction": 0.0, "joint": "bedding"}]
-    got = {o: run({**two, "analysis": {**two["analysis"], "ordering": o}}, tmp_path, o)
-           for o in ("amd", "nested_dissection", "smallest")}
+    got = {o: run(two_blocks(6, max_steps=3, ordering=o), tmp_path, o) for o in ("amd", "nested_dissection", "smallest")}
     size = {o: s["factor_nonzeros"] for o, s in got.items()}
     assert size["amd"] != size["nested_dissection"], size
     picked = min(("amd", "nested_dissection"), key=lambda o: size[o])
