@@ -42,6 +42,8 @@ CASES = [
     ("Goodman's tunnel, 0.3 s (20 meshed blocks, 2 m cover)", ROOT / "examples" / "goodman_tunnel.toml", [], roof),
     ("Yade-matched dominos, 3 s (0.1 m cover)", ROOT / "bench" / "peers" / "dominos_yade_match.toml",
      ["analysis.duration=3.0"], tilts),
+    ("the same dominos on a 0.5 m cover (a few MEs each)", ROOT / "bench" / "peers" / "dominos_yade_match.toml",
+     ["analysis.duration=3.0", "cover.size=0.5"], tilts),
 ]
 
 
