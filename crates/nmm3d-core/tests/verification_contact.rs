@@ -266,7 +266,8 @@ quantities = ["displacement"]
 fn block_on_block_and_a_three_block_tower_rest_without_drift() {
     let (rho, g, e, h) = (2500.0, 10.0, 10.0e9, 1.0);
     let weight = rho * g * h;
-    let kn = 10.0 * e * 0.5; // "auto": 10 E × cover size, per point; four points per face
+    // "auto": the default factor × E × cover size, per point; four points per face.
+    let kn = nmm3d_core::scenario::ContactSpec::default().auto_penalty_factor * e * 0.5;
     for n in [2usize, 3] {
         let name = format!("tower_{n}");
         let out = tower(n, 4000, &name);
