@@ -10,17 +10,21 @@ springs, the more points flip between stick, slide and open at nearly zero force
 (docs/theory/contact.md). Each case here runs back to back with the factor 10, 3, 1, 0.3 and
 0.1: iterations, factorisations, systems solved on the last factor instead (PCG), wall time,
 the deepest overlap and the energy balance, and the answer (the roof block's travel; the
-dominos' tilts) beside them.
+dominos' tilts) beside them. The packed pile of `bench/contact.py` (300 cubes touching side to
+side, settling 2 mm onto the floor) runs in this process.
 """
 
 from __future__ import annotations
 
 import math
 import os
+import tempfile
+import time
 from pathlib import Path
 
 from _page import write_page
 from _run import run_scenario
+from contact import pile
 
 ROOT = Path(__file__).resolve().parent.parent
 PAGE = ROOT / "docs" / "penalty.md"
@@ -37,13 +41,36 @@ def tilts(s: dict) -> str:
     return "tilts " + ", ".join(f"{abs(s['final'][f'd{k}.rotation.y']) * 180.0 / math.pi:.0f}" for k in range(10))
 
 
-# (case, scenario, settings, answer).
+def nothing(s: dict) -> str:
+    return "–"
+
+
+def from_file(scenario: Path, sets: list[str]):
+    """A case run by the command line: the summary for a factor."""
+    return lambda setting: run_scenario(scenario, [*sets, setting])
+
+
+def packed_pile(n: int):
+    """A case built by `bench/contact.py`, run through the Python API."""
+    def run(setting: str) -> dict:
+        import nmm3d
+
+        with tempfile.TemporaryDirectory() as out:
+            t0 = time.perf_counter()
+            s = nmm3d.Scenario.from_dict(pile(n, packed=True), [setting]).run(out=out).summary
+            return {**s, "wall": time.perf_counter() - t0}
+    return run
+
+
+DOMINOS = ROOT / "bench" / "peers" / "dominos_yade_match.toml"
+# (case, how it runs, answer).
 CASES = [
-    ("Goodman's tunnel, 0.3 s (20 meshed blocks, 2 m cover)", ROOT / "examples" / "goodman_tunnel.toml", [], roof),
-    ("Yade-matched dominos, 3 s (0.1 m cover)", ROOT / "bench" / "peers" / "dominos_yade_match.toml",
-     ["analysis.duration=3.0"], tilts),
-    ("the same dominos on a 0.5 m cover (a few MEs each)", ROOT / "bench" / "peers" / "dominos_yade_match.toml",
-     ["analysis.duration=3.0", "cover.size=0.5"], tilts),
+    ("Goodman's tunnel, 0.3 s (20 meshed blocks, 2 m cover)", from_file(ROOT / "examples" / "goodman_tunnel.toml", []),
+     roof),
+    ("Yade-matched dominos, 3 s (0.1 m cover)", from_file(DOMINOS, ["analysis.duration=3.0"]), tilts),
+    ("the same dominos on a 0.5 m cover (a few MEs each)",
+     from_file(DOMINOS, ["analysis.duration=3.0", "cover.size=0.5"]), tilts),
+    ("packed pile of 300 cubes, 40 steps (0.5 m cover)", packed_pile(300), nothing),
 ]
 
 
@@ -57,9 +84,9 @@ def row(name: str, factor: float, s: dict, answer) -> str:
 def main() -> None:
     load0 = os.getloadavg()[0]
     lines = []
-    for name, scenario, sets, answer in CASES:
+    for name, run, answer in CASES:
         for factor in FACTORS:
-            s = run_scenario(scenario, [*sets, f"contact.auto_penalty_factor={factor}"])
+            s = run(f"contact.auto_penalty_factor={factor}")
             lines.append(row(name, factor, s, answer))
             print(lines[-1], flush=True)
     write_page(PAGE, "The automatic contact penalty on webs of touching blocks", "penalty.py", load0, [
