@@ -78,7 +78,7 @@ def main() -> None:
         lines.append(f"| {s:g} | {cut['blocks']:,} | {cut['cutting_seconds']:.2f} | {cut['peak_mb']:.0f} | {c} |")
     done = [(s, c) for s, c, _ in rows if c]
     if len(done) >= 2:
-        (s0, a), (s1, b) = done[0], done[-1]
+        (_, a), (_, b) = done[0], done[-1]
         import math
         k = math.log(b["cutting_seconds"] / a["cutting_seconds"]) / math.log(b["blocks"] / a["blocks"])
         lines += ["", f"Cutting time grows as (blocks)^{k:.2f} between {a['blocks']:,} and {b['blocks']:,} blocks."]

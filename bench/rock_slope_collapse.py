@@ -246,7 +246,7 @@ def write(s: dict, blocks: dict[int, dict], monitors: dict[str, int], ends: dict
         "",
         "## The collapse",
         "",
-        f"| reached t [s] | steps | step cuts | open–close iterations / step | wall [s] | energy balance error | deepest overlap [mm] |",
+        "| reached t [s] | steps | step cuts | open–close iterations / step | wall [s] | energy balance error | deepest overlap [mm] |",
         "|---:|---:|---:|---:|---:|---:|---:|",
         f"| {s['time']:.2f} ({s['status']}) | {s['steps']} | {s['step_cuts']} | "
         f"{s['open_close_iterations'] / max(s['steps'], 1):.1f} | {s['wall_seconds']:.0f} | "
