@@ -18,6 +18,7 @@ EXIT_INPUT = 2
 @pytest.mark.parametrize("key, value, path", [
     ("cover.origin", "[nan, 0.0, 0.0]", "cover.origin[0]"),
     ("analysis.gravity", "[0.0, 0.0, -inf]", "analysis.gravity"),
+    ("analysis.static_travel_limit", "inf", "analysis.static_travel_limit"),
     ("body.cube.velocity", "[0.0, nan, 0.0]", "body.cube.velocity"),
     ("material.rock.density", "nan", "material.rock.density"),
 ])

@@ -170,6 +170,9 @@ class RunSummary:
     linear_solver: str = "direct"
     #: PCG iterations of the multigrid solver (0 with the direct one)
     multigrid_iterations: int = 0
+    #: a static run with ``analysis.static_travel_limit`` that stopped with every other block in
+    #: equilibrium: the blocks that moved beyond the limit (not held), farthest first
+    not_held: list[int] = dataclasses.field(default_factory=list)
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> RunSummary:

@@ -37,7 +37,10 @@ def run_task(task: dict[str, Any]) -> dict[str, Any]:
         summary = json.loads((out / "summary.json").read_text())
         record.update(status=summary["status"], message=summary["message"], steps=summary["steps"],
                       time=summary["time"])
-        record.update(judge(out, monitors, task["criterion"], summary["status"] == "completed"))
+        # A static run stopped with the blocks it does not hold beyond `static_travel_limit` and
+        # every other block in equilibrium has a verdict for each, as a completed one.
+        settled = summary["status"] == "completed" or bool(summary.get("not_held"))
+        record.update(judge(out, monitors, task["criterion"], settled))
     except Exception as e:  # noqa: BLE001 — a failed run is a row with its reason, never a crash of the study
         record = failed_record(task, str(e) if isinstance(e, _core.NmmError) else f"{type(e).__name__}: {e}")
     record["wall_seconds"] = time.perf_counter() - t0
@@ -78,8 +81,10 @@ def _with_criterion_monitors(task: dict[str, Any]) -> tuple[str, dict[str, str]]
 def judge(out: Path, targets: dict[str, str], criterion: dict[str, Any], completed: bool) -> dict[str, Any]:
     """Each target's |u| at the end, its first time beyond the threshold, and the verdicts.
 
-    A completed run is unstable where |u| at its end exceeds the threshold; a failed run only
-    where |u| had already exceeded it (otherwise it cannot tell: None)."""
+    A completed run (or a static one that stopped with the blocks it does not hold beyond
+    `analysis.static_travel_limit`, the others in equilibrium) is unstable where |u| at its end
+    exceeds the threshold; any other run only where |u| had already exceeded it (otherwise it
+    cannot tell: None)."""
     history = read_columns(out / "history.csv") if (out / "history.csv").is_file() else {}
     limit = criterion["displacement"]
     final: dict[str, float] = {}

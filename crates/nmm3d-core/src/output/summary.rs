@@ -102,6 +102,10 @@ pub struct RunSummary {
     /// PCG iterations of the multigrid solver (0 with the direct one).
     #[serde(default)]
     pub multigrid_iterations: u64,
+    /// A static run with `analysis.static_travel_limit` that ended with every other block in
+    /// equilibrium: the blocks that moved beyond the limit (not held), farthest first.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub not_held: Vec<usize>,
 }
 
 fn direct() -> String {

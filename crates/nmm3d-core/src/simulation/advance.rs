@@ -15,6 +15,7 @@ use crate::output::summary::{RunSummary, Status};
 use crate::scenario::AnalysisKind;
 use crate::system::System;
 use crate::time::settle::Settled;
+use crate::time::{cut, held};
 use crate::time::{State, Stepper};
 
 use super::options::StopRequest;
@@ -25,7 +26,8 @@ use super::summary::{summary, Ending};
 pub(super) enum End {
     /// Reached the duration, equilibrium, or (dynamic) `max_steps`.
     Completed(String),
-    /// A static run that reached its duration or `max_steps` before equilibrium.
+    /// A static run that reached its duration or `max_steps` before equilibrium, or whose
+    /// blocks moved beyond `analysis.static_travel_limit`.
     NotConverged(String),
     /// Stopped on request.
     Interrupted(String),
@@ -178,6 +180,9 @@ pub(super) fn advance(
         rec.record(sys, whole, false)?;
         progress.step(a, state, &report);
         if until_equilibrium && state.step > 1 && report.unbalanced <= a.equilibrium_tolerance {
+            if let Some(m) = not_held(sys, &state.u) {
+                return Ok(End::NotConverged(format!("{m} (t = {} s, step {})", state.time, state.step)));
+            }
             return Ok(End::Completed(format!(
                 "equilibrium reached (unbalanced force ratio {:.3e})",
                 report.unbalanced
@@ -193,4 +198,19 @@ pub(super) fn advance(
             )));
         }
     }
+}
+
+/// What a static run that stopped with blocks beyond `analysis.static_travel_limit` says (the
+/// farthest ten named), or `None` when every block is within it.
+fn not_held(sys: &System, u: &[nmm3d_geom::Vec3]) -> Option<String> {
+    let gone: Vec<usize> = held::beyond_limit(sys, u).into_iter().map(|(b, _)| b).collect();
+    let limit = sys.scenario.analysis.static_travel_limit;
+    (!gone.is_empty()).then(|| {
+        format!(
+            "not held: {} block(s) moved beyond static_travel_limit = {limit} m from the reference \
+             configuration, the others are in equilibrium{}",
+            gone.len(),
+            cut::named(sys, &gone[..gone.len().min(10)])
+        )
+    })
 }

@@ -7,6 +7,7 @@ use super::recorder::Recorder;
 use crate::output::summary::{EnergySummary, InitialEquilibrium, ResumedFrom, RunSummary, Status};
 use crate::output::{checks, cuts};
 use crate::system::System;
+use crate::time::held;
 use crate::time::settle::Settled;
 use crate::time::{State, Stepper};
 
@@ -62,7 +63,18 @@ pub(super) fn summary(sys: &System, whole: &State, stepper: &Stepper, rec: &Reco
         stages: Vec::new(),
         linear_solver: stepper.solver().name().into(),
         multigrid_iterations: stepper.solver().inner_iterations(),
+        not_held: not_held(sys, whole, rec, end.status),
     }
+}
+
+/// The blocks beyond `analysis.static_travel_limit` of a static run that stopped with the
+/// others in equilibrium (see `held`); none otherwise.
+fn not_held(sys: &System, whole: &State, rec: &Recorder, status: Status) -> Vec<usize> {
+    let settled = rec.last_unbalanced <= sys.scenario.analysis.equilibrium_tolerance;
+    if status != Status::NotConverged || !settled {
+        return Vec::new();
+    }
+    held::beyond_limit(sys, &whole.motion.u).into_iter().map(|(b, _)| b).collect()
 }
 
 /// Seconds per phase: those of building the system, then of the run.

@@ -193,7 +193,7 @@ impl Stepper {
         } else {
             start_contact
         };
-        let unbalanced = unbalanced_ratio(sys, run, &start_force);
+        let unbalanced = unbalanced_ratio(sys, run, &super::held::of_held(sys, &state.u, &start_force));
         let mut start_records = contact.as_ref().map(|h| h.records.clone());
         // The springs' energy at the start: the first step's is part of the initial energy
         // (springs loaded by the initial equilibrium or by overlapping input).

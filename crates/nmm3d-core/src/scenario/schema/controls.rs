@@ -135,6 +135,10 @@ pub struct Analysis {
     /// Memory a run may plan to use [B]; a scenario estimated beyond it is refused as input;
     /// 0 = 80 % of this machine's memory (addition).
     pub max_memory: f64,
+    /// A static analysis ends as not converged once a cover has moved this far from the
+    /// reference configuration, naming the blocks that did: they are not held (a stability
+    /// verdict without following a failing block down its slope); 0 = off [m] (addition).
+    pub static_travel_limit: f64,
 }
 
 /// Fill-reducing ordering of the sparse Cholesky factorisation.
@@ -221,6 +225,7 @@ impl Default for Analysis {
             krylov_max_iterations: 12,
             factor_reuse_closeness: 1e-6,
             max_memory: 0.0,
+            static_travel_limit: 0.0,
         }
     }
 }

@@ -203,6 +203,9 @@ fn analysis(c: &mut Checker, a: &Analysis) {
     if !(a.target_displacement_ratio > 0.0 && a.target_displacement_ratio <= 1.0) {
         c.fail("analysis.target_displacement_ratio", "must be in (0, 1]");
     }
+    if !(a.static_travel_limit >= 0.0 && a.static_travel_limit.is_finite()) {
+        c.fail("analysis.static_travel_limit", "must be a finite length ≥ 0 (0: off)");
+    }
     if a.max_open_close == 0 {
         c.fail("analysis.max_open_close", "must be at least 1");
     }

@@ -1,0 +1,85 @@
+"""A static analysis as a stability check (`analysis.static_travel_limit`): the run stops once
+the blocks that moved beyond the limit are the only ones out of equilibrium, names them in
+`summary.json` (`not_held`), and a critical-friction study on such runs finds the wedge's
+critical angle as block theory does — a verdict per run without following a failing block
+down its slope (the static framework of joint-element NMM, issue 10 item 1).
+"""
+
+from __future__ import annotations
+
+import csv
+
+import numpy as np
+import pytest
+
+import nmm3d
+from nmm3d.wedge import critical_friction_angle
+from test_wedge_nmm import PLANE_A, PLANE_B, scenario
+
+LIMIT = 0.02  # m
+PSEUDO_TIME = 20.0  # s: the static run's time limit (its steps are not physical time)
+
+
+def static_scenario(phi: float) -> dict:
+    data = scenario(phi)
+    data["analysis"].update(kind="static", dt=1.0, duration=PSEUDO_TIME, static_travel_limit=LIMIT)
+    return data
+
+
+def wedge_block(out) -> int:
+    with open(out / "blocks.csv", newline="") as f:
+        return next(int(r["id"]) for r in csv.DictReader(f) if r["body"] == "wedge")
+
+
+def run(phi: float, out) -> nmm3d.Result:
+    return nmm3d.Scenario.from_dict(static_scenario(phi)).run(out=out)
+
+
+def test_a_static_run_names_the_wedge_it_does_not_hold(tmp_path):
+    phi = critical_friction_angle(PLANE_A, PLANE_B) - 2.0
+    result = run(phi, tmp_path / "run")
+    s = result.summary
+    assert s["status"] == "not_converged", s["message"]
+    assert s["not_held"] == [wedge_block(tmp_path / "run")], s
+    assert "not held" in s["message"] and "static_travel_limit" in s["message"], s["message"]
+    moved = np.linalg.norm([s["final"][f"wedge.displacement.{c}"] for c in "xyz"])
+    assert moved > 0.5 * LIMIT
+
+
+def test_a_static_run_holds_the_wedge_above_its_critical_angle(tmp_path):
+    phi = critical_friction_angle(PLANE_A, PLANE_B) + 2.0
+    result = run(phi, tmp_path / "run")
+    s = result.summary
+    assert result.completed, s["message"]
+    assert "not_held" not in s
+    assert np.linalg.norm([s["final"][f"wedge.displacement.{c}"] for c in "xyz"]) < 1e-3
+
+
+def test_without_a_limit_a_static_run_follows_the_wedge_to_its_time_limit(tmp_path):
+    """The limit is opt-in: 0 keeps a static run going until equilibrium or its time limit."""
+    data = static_scenario(critical_friction_angle(PLANE_A, PLANE_B) - 2.0)
+    data["analysis"].update(static_travel_limit=0.0, duration=2.0)
+    s = nmm3d.Scenario.from_dict(data).run(out=tmp_path / "run").summary
+    assert s["status"] == "not_converged" and "reached the duration" in s["message"], s["message"]
+    assert "not_held" not in s
+
+
+def test_a_static_critical_friction_study_finds_the_wedge_angle(tmp_path):
+    phi_c = critical_friction_angle(PLANE_A, PLANE_B)
+    data = static_scenario(30.0)
+    data["study"] = {"kind": "critical_friction", "joints": ["j"], "range": [phi_c - 8.0, phi_c + 8.0],
+                     "tolerance": 0.5, "criterion": {"monitor": "wedge", "displacement": 0.01,
+                                                     "time": PSEUDO_TIME}}
+    s = nmm3d.Study(nmm3d.Scenario.from_dict(data), out=tmp_path / "study").run(workers=1).summary
+    assert s["search_status"] == "converged", s["message"]
+    low, high = s["bracket"]
+    assert high - low <= 0.5 + 1e-9
+    assert low - 0.5 <= phi_c <= high + 0.5, (s["bracket"], phi_c)
+
+
+def test_a_travel_limit_must_not_be_negative():
+    """(A non-finite one is refused by the CLI's own check: `test_bad_inputs.py`.)"""
+    data = static_scenario(30.0)
+    data["analysis"]["static_travel_limit"] = -0.01
+    with pytest.raises(nmm3d.ScenarioError, match=r"analysis\.static_travel_limit"):
+        nmm3d.Scenario.from_dict(data)
