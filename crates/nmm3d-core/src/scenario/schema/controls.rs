@@ -135,9 +135,10 @@ pub struct Analysis {
     /// Memory a run may plan to use [B]; a scenario estimated beyond it is refused as input;
     /// 0 = 80 % of this machine's memory (addition).
     pub max_memory: f64,
-    /// A static analysis ends as not converged once a cover has moved this far from the
-    /// reference configuration, naming the blocks that did: they are not held (a stability
-    /// verdict without following a failing block down its slope); 0 = off [m] (addition).
+    /// A static analysis leaves the blocks whose covers moved this far from the reference
+    /// configuration out of its unbalanced force and ends (not converged, naming them: not
+    /// held) once the others are in equilibrium — a verdict for every block without following
+    /// a failing one down its slope; 0 = off [m] (addition).
     pub static_travel_limit: f64,
 }
 
