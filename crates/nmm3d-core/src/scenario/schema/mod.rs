@@ -1,6 +1,7 @@
 //! The scenario file, version 1 (`docs/scenario.md`): typed, with defaults and units.
 //! Unknown keys are rejected. Semantic checks live in `validate/`.
 
+mod contact;
 mod controls;
 mod loads;
 mod monitor;
@@ -8,6 +9,7 @@ mod rock;
 mod stages;
 mod support;
 
+pub use contact::*;
 pub use controls::*;
 pub use loads::*;
 pub use monitor::*;
