@@ -83,14 +83,15 @@ def classify(kb, half_width: float, crown: float) -> dict[str, object]:
     return out
 
 
-def study(d: dict, ids: list[int], tolerance: float, out: Path) -> dict:
-    """Per-block critical friction angles by the NMM."""
+def study(d: dict, ids: list[int], tolerance: float, out: Path, time: float = CRITERION_TIME) -> dict:
+    """Per-block critical friction angles by the NMM (`time`: the criterion's time — a static
+    scenario's pseudo-time limit)."""
     d = json.loads(json.dumps(d))
     d.pop("expect", None)
-    d["analysis"]["duration"] = CRITERION_TIME
+    d["analysis"]["duration"] = time
     d["analysis"]["output_interval"] = 0.0
     d["study"] = {"kind": "critical_friction", "joints": ["joint"], "range": [10.0, 45.0], "tolerance": tolerance,
-                  "criterion": {"blocks": ids, "displacement": CRITERION, "time": CRITERION_TIME}}
+                  "criterion": {"blocks": ids, "displacement": CRITERION, "time": time}}
     result = nmm3d.Study(nmm3d.Scenario.from_dict(d), out=out).run()
     s = result.summary
     # Each run's own wall time (kept in its record, also when a resumed study reuses it).
