@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 import nmm3d
+from conftest import EXAMPLES
 from nmm3d.wedge import critical_friction_angle
 from test_wedge_nmm import PLANE_A, PLANE_B, scenario
 
@@ -53,6 +54,45 @@ def test_a_static_run_holds_the_wedge_above_its_critical_angle(tmp_path):
     assert result.completed, s["message"]
     assert "not_held" not in s
     assert np.linalg.norm([s["final"][f"wedge.displacement.{c}"] for c in "xyz"]) < 1e-3
+
+
+def test_a_released_wedge_carries_no_contact_points(tmp_path):
+    """Beyond the limit a block is released: its contact points go (a failed block neither holds
+    nor drags its neighbours)."""
+    run(critical_friction_angle(PLANE_A, PLANE_B) - 2.0, tmp_path / "run")
+    with open(tmp_path / "run" / "diagnostics.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert int(rows[0]["contact_points"]) > 0
+    assert int(rows[-1]["contact_points"]) == 0, rows[-1]
+
+
+def test_released_tunnel_key_blocks_stay_where_they_crossed_the_limit(tmp_path):
+    """The tunnel's key blocks below their critical angles, on a limit of 2 mm: each is pinned
+    where it crossed it (its displacement constant from then on, while the run goes on until the
+    rest of the rock mass is in equilibrium), so a falling block neither cuts the step nor runs
+    through the rock."""
+    limit = 0.002
+    data = nmm3d.load(EXAMPLES / "tunnel_key_blocks.toml").to_dict()
+    data.pop("expect", None)
+    data["joint"][0]["friction_angle"] = 20.0
+    data["analysis"].update(kind="static", dt=1.0, duration=PSEUDO_TIME, output_interval=0.0,
+                            static_travel_limit=limit)
+    s = nmm3d.Scenario.from_dict(data).run(out=tmp_path / "run").summary
+    assert s["status"] == "not_converged" and s["not_held"], s["message"]
+    with open(tmp_path / "run" / "history.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    blocks = {"roof_key_block": 21, "wall_key_block": 24}  # as the example's checks name them
+    pinned = 0
+    for name, block in blocks.items():
+        assert block in s["not_held"], f"{name} held at 20°"
+        u = np.array([[float(r[f"{name}.displacement.{c}"]) for c in "xyz"] for r in rows])
+        # The limit bounds the block's farthest cover; its centroid, monitored, moved less.
+        since = len(u) - 1
+        while since > 0 and np.array_equal(u[since - 1], u[-1]):
+            since -= 1
+        assert np.linalg.norm(u[-1]) > 0.5 * limit, f"{name} ended within the limit"
+        pinned += len(u) - 1 - since
+    assert pinned > 0, "the run ended as both crossed: nothing shows the pinning"
 
 
 def test_without_a_limit_a_static_run_follows_the_wedge_to_its_time_limit(tmp_path):

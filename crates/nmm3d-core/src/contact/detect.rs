@@ -60,8 +60,12 @@ impl ContactSurfaces {
         // (`travel`); the others are detected again.
         let narrow = ContactParams { margin: p.margin.min(p.tolerance + (2.0 * reach).max(p.tolerance)), ..p };
         let boxes: Vec<Aabb> = current.par_iter().map(ConvexPolyhedron::aabb).collect();
-        let near: Vec<Pair> =
-            pairs.into_iter().filter(|&(i, j)| boxes[i].separation(&boxes[j]) <= narrow.margin).collect();
+        // Blocks a static analysis no longer holds are released: no points on them.
+        let released = sys.released(&state.u);
+        let near: Vec<Pair> = (pairs.into_iter())
+            .filter(|&(i, j)| !released[pieces[i].block] && !released[pieces[j].block])
+            .filter(|&(i, j)| boxes[i].separation(&boxes[j]) <= narrow.margin)
+            .collect();
         let candidates: FxHashSet<(usize, usize)> = near.iter().map(|&q| self.blocks_of(q)).collect();
         h.travel.retain(|q| candidates.contains(q));
         let (redo, stay): (Vec<Pair>, Vec<Pair>) =
@@ -165,7 +169,9 @@ impl ContactSurfaces {
         // the pieces' faces) — their boxes overlap by as much.
         let overlap = 0.5 * p.tolerance;
         let boxes: Vec<Aabb> = current.par_iter().map(ConvexPolyhedron::aabb).collect();
+        let released = sys.released(&start.u);
         let pairs: Vec<(usize, usize)> = (h.warning.pairs.iter().copied())
+            .filter(|&(i, j)| !released[self.pieces[i].block] && !released[self.pieces[j].block])
             .filter(|&(i, j)| boxes[i].separation(&boxes[j]) <= -overlap)
             .filter(|&q| h.travel.since(self.blocks_of(q), Some(&moved)) >= p.tolerance)
             .collect();
@@ -202,7 +208,10 @@ impl ContactHistory {
     /// its material points. For steps after which no point has moved by the contact tolerance
     /// since the last detection, where a new detection would only make points at the edge of a
     /// face come and go with round-off — each arrival inheriting its neighbour's springs.
+    /// Points on blocks a static analysis has released (`System::released`) are dropped.
     pub fn refresh(&mut self, sys: &System, state: &Motion) {
+        let released = sys.released(&state.u);
+        self.records.retain(|r| !released[r.blocks.0] && !released[r.blocks.1]);
         self.records.iter_mut().for_each(|r| r.refresh(sys, state));
     }
 }

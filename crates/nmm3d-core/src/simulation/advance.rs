@@ -14,8 +14,8 @@ use crate::output::progress::{Progress, ProgressMode};
 use crate::output::summary::{RunSummary, Status};
 use crate::scenario::AnalysisKind;
 use crate::system::System;
+use crate::time::cut;
 use crate::time::settle::Settled;
-use crate::time::{cut, held};
 use crate::time::{State, Stepper};
 
 use super::options::StopRequest;
@@ -203,7 +203,7 @@ pub(super) fn advance(
 /// What a static run that stopped with blocks beyond `analysis.static_travel_limit` says (the
 /// farthest ten named), or `None` when every block is within it.
 fn not_held(sys: &System, u: &[nmm3d_geom::Vec3]) -> Option<String> {
-    let gone: Vec<usize> = held::beyond_limit(sys, u).into_iter().map(|(b, _)| b).collect();
+    let gone: Vec<usize> = sys.beyond_travel_limit(u).into_iter().map(|(b, _)| b).collect();
     let limit = sys.scenario.analysis.static_travel_limit;
     (!gone.is_empty()).then(|| {
         format!(

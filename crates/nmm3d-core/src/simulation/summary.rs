@@ -7,7 +7,6 @@ use super::recorder::Recorder;
 use crate::output::summary::{EnergySummary, InitialEquilibrium, ResumedFrom, RunSummary, Status};
 use crate::output::{checks, cuts};
 use crate::system::System;
-use crate::time::held;
 use crate::time::settle::Settled;
 use crate::time::{State, Stepper};
 
@@ -68,13 +67,13 @@ pub(super) fn summary(sys: &System, whole: &State, stepper: &Stepper, rec: &Reco
 }
 
 /// The blocks beyond `analysis.static_travel_limit` of a static run that stopped with the
-/// others in equilibrium (see `held`); none otherwise.
+/// others in equilibrium (`System::beyond_travel_limit`); none otherwise.
 fn not_held(sys: &System, whole: &State, rec: &Recorder, status: Status) -> Vec<usize> {
     let settled = rec.last_unbalanced <= sys.scenario.analysis.equilibrium_tolerance;
     if status != Status::NotConverged || !settled {
         return Vec::new();
     }
-    held::beyond_limit(sys, &whole.motion.u).into_iter().map(|(b, _)| b).collect()
+    sys.beyond_travel_limit(&whole.motion.u).into_iter().map(|(b, _)| b).collect()
 }
 
 /// Seconds per phase: those of building the system, then of the run.

@@ -17,6 +17,7 @@ use crate::model::Geometry;
 use crate::scenario::{Scenario, Stiffness};
 
 mod bolts;
+mod held;
 mod water;
 
 pub use bolts::BoltNode;

@@ -11,7 +11,7 @@ pub mod cut;
 pub mod energy;
 mod equilibrate;
 mod gain;
-pub mod held;
+mod held;
 pub mod integrator;
 mod newton;
 mod reach;

@@ -251,6 +251,7 @@ impl Stepper {
             };
             let trial = Trial { residual: trial_residual, mv: &mv, ma: &ma, k, keep };
             let (mut d, iterations, settled) = self.open_close(sys, (state, contact.as_mut()), &trial)?;
+            super::held::pin(sys, &state.u, &mut d);
             let dmax = d.iter().map(|x| x.norm()).fold(0.0, f64::max);
             // Lagged verification, where the blocks may have moved into a contact unseen (not
             // while nothing has moved by the contact tolerance since the last detection); before
