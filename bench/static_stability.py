@@ -62,8 +62,9 @@ def main() -> None:
         f"to {args.tolerance:g}°; a block has failed when its centroid has moved {CRITERION:g} m). Dynamic: "
         f"{CRITERION_TIME:g} s of motion per run (as `docs/applications/tunnel-key-blocks.md`). Static: "
         f"`analysis.kind = \"static\"`, Δt = {STATIC_DT:g} (a regulariser), pseudo-time limit {STATIC_TIME:g} s, "
-        f"`analysis.static_travel_limit = {TRAVEL_LIMIT:g}` m: each run stops once only the blocks beyond it "
-        "move (`docs/user-guide.md`, *Static or dynamic*). The two studies ran one after the other, two runs at "
+        f"`analysis.static_travel_limit = {TRAVEL_LIMIT:g}` m: each run releases the blocks beyond it (no contact "
+        "points on them), pins them where they crossed it and stops once the others are in equilibrium "
+        "(`docs/user-guide.md`, *Static or dynamic*). The two studies ran one after the other, two runs at "
         "a time each.",
         "",
         f"| runs | number | run seconds | study wall [s] | load at start | {head} |",

@@ -117,6 +117,20 @@ def test_a_static_critical_friction_study_finds_the_wedge_angle(tmp_path):
     assert low - 0.5 <= phi_c <= high + 0.5, (s["bracket"], phi_c)
 
 
+def test_a_study_counts_blocks_pinned_below_its_threshold_as_failed(tmp_path):
+    """A travel limit below the criterion's displacement: the wedge is pinned at 5 mm, short of
+    the 1 cm threshold, yet a run that did not hold it judges it unstable."""
+    phi_c = critical_friction_angle(PLANE_A, PLANE_B)
+    data = static_scenario(30.0)
+    data["analysis"]["static_travel_limit"] = 0.005
+    data["study"] = {"kind": "critical_friction", "joints": ["j"], "range": [phi_c - 8.0, phi_c + 8.0],
+                     "tolerance": 0.5, "criterion": {"monitor": "wedge", "displacement": 0.01,
+                                                     "time": PSEUDO_TIME}}
+    s = nmm3d.Study(nmm3d.Scenario.from_dict(data), out=tmp_path / "study").run(workers=1).summary
+    assert s["search_status"] == "converged", s["message"]
+    assert s["bracket"][0] - 0.5 <= phi_c <= s["bracket"][1] + 0.5, (s["bracket"], phi_c)
+
+
 def test_a_travel_limit_must_not_be_negative():
     """(A non-finite one is refused by the CLI's own check: `test_bad_inputs.py`.)"""
     data = static_scenario(30.0)

@@ -173,6 +173,8 @@ class RunSummary:
     #: a static run with ``analysis.static_travel_limit`` that stopped with every other block in
     #: equilibrium: the blocks that moved beyond the limit (not held), farthest first
     not_held: list[int] = dataclasses.field(default_factory=list)
+    #: the monitors of those blocks (pinned where they crossed the limit: a study judges them failed)
+    not_held_monitors: list[str] = dataclasses.field(default_factory=list)
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> RunSummary:

@@ -12,6 +12,7 @@ import math
 import os
 import shutil
 import time
+from collections.abc import Collection
 from pathlib import Path
 from typing import Any
 
@@ -39,9 +40,8 @@ def run_task(task: dict[str, Any]) -> dict[str, Any]:
                       time=summary["time"])
         # A static run stopped with the blocks it does not hold beyond `static_travel_limit` and
         # every other block in equilibrium has a verdict for each, as a completed one.
-        released = summary.get("not_held", [])
-        settled = summary["status"] == "completed" or bool(released)
-        record.update(judge(out, monitors, task["criterion"], settled, released))
+        settled = summary["status"] == "completed" or bool(summary.get("not_held"))
+        record.update(judge(out, monitors, task["criterion"], settled, summary.get("not_held_monitors", [])))
     except Exception as e:  # noqa: BLE001 — a failed run is a row with its reason, never a crash of the study
         record = failed_record(task, str(e) if isinstance(e, _core.NmmError) else f"{type(e).__name__}: {e}")
     record["wall_seconds"] = time.perf_counter() - t0
@@ -80,14 +80,14 @@ def _with_criterion_monitors(task: dict[str, Any]) -> tuple[str, dict[str, str]]
 
 
 def judge(out: Path, targets: dict[str, str], criterion: dict[str, Any], completed: bool,
-          released: list[int] = ()) -> dict[str, Any]:
+          released: Collection[int] = ()) -> dict[str, Any]:
     """Each target's |u| at the end, its first time beyond the threshold, and the verdicts.
 
     A completed run (or a static one that stopped with the blocks it does not hold beyond
     `analysis.static_travel_limit`, the others in equilibrium) is unstable where |u| at its end
     exceeds the threshold; any other run only where |u| had already exceeded it (otherwise it
-    cannot tell: None). The blocks such a static run did not hold (`released`, pinned where they
-    crossed the limit, which may lie below the threshold) are unstable."""
+    cannot tell: None). The monitors of the blocks such a static run did not hold (`released`:
+    pinned where they crossed the limit, which may lie below the threshold) are unstable."""
     history = read_columns(out / "history.csv") if (out / "history.csv").is_file() else {}
     limit = criterion["displacement"]
     final: dict[str, float] = {}
@@ -105,7 +105,7 @@ def judge(out: Path, targets: dict[str, str], criterion: dict[str, Any], complet
         if beyond.any():
             detach[target] = float(t[int(beyond.argmax())])
         unstable[target] = bool(mag[-1] > limit) if completed else (True if beyond.any() else None)
-        if block_id(target) in released:
+        if m in released:
             unstable[target] = True
     verdicts = list(unstable.values())
     unstable["any"] = True if any(v is True for v in verdicts) else (

@@ -106,6 +106,10 @@ pub struct RunSummary {
     /// equilibrium: the blocks that moved beyond the limit (not held), farthest first.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub not_held: Vec<usize>,
+    /// The monitors of those blocks (a study judges them failed: they are pinned where they
+    /// crossed the limit, which may lie below its criterion's displacement).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub not_held_monitors: Vec<String>,
 }
 
 fn direct() -> String {

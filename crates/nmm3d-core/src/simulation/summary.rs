@@ -26,6 +26,7 @@ pub(super) fn summary(sys: &System, whole: &State, stepper: &Stepper, rec: &Reco
     let (state, run) = (&whole.motion, &whole.stepper);
     let last = rec.final_values();
     let counts = stepper.solve_counts();
+    let not_held = not_held(sys, whole, rec, end.status);
     RunSummary {
         status: end.status,
         message: end.message.to_string(),
@@ -62,7 +63,11 @@ pub(super) fn summary(sys: &System, whole: &State, stepper: &Stepper, rec: &Reco
         stages: Vec::new(),
         linear_solver: stepper.solver().name().into(),
         multigrid_iterations: stepper.solver().inner_iterations(),
-        not_held: not_held(sys, whole, rec, end.status),
+        not_held_monitors: (rec.monitors.iter())
+            .filter(|m| not_held.contains(&m.block))
+            .map(|m| m.name.clone())
+            .collect(),
+        not_held,
     }
 }
 
