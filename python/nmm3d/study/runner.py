@@ -80,7 +80,7 @@ def _with_criterion_monitors(task: dict[str, Any]) -> tuple[str, dict[str, str]]
 
 
 def judge(out: Path, targets: dict[str, str], criterion: dict[str, Any], completed: bool,
-          released: Collection[int] = ()) -> dict[str, Any]:
+          released: Collection[str] = ()) -> dict[str, Any]:
     """Each target's |u| at the end, its first time beyond the threshold, and the verdicts.
 
     A completed run (or a static one that stopped with the blocks it does not hold beyond

@@ -16,11 +16,7 @@ pub(super) fn of_held<'a>(sys: &System, u: &[Vec3], f: &'a [Vec3]) -> Cow<'a, [V
         return Cow::Borrowed(f);
     }
     let mut out = f.to_vec();
-    for (c, x) in out.iter_mut().enumerate() {
-        if gone[sys.covers.covers[c].block] {
-            *x = Vec3::zeros();
-        }
-    }
+    zero_on(sys, &gone, &mut out);
     Cow::Owned(out)
 }
 
@@ -28,11 +24,12 @@ pub(super) fn of_held<'a>(sys: &System, u: &[Vec3], f: &'a [Vec3]) -> Cow<'a, [V
 /// every contact, such a block's equations are its own, so zeroing its part of the solution
 /// leaves the others' exact — and keeps its fall out of the step's displacement ratio.
 pub(super) fn pin(sys: &System, u: &[Vec3], d: &mut [Vec3]) {
-    let gone = sys.released(u);
-    if !gone.contains(&true) {
-        return;
-    }
-    for (c, x) in d.iter_mut().enumerate() {
+    zero_on(sys, &sys.released(u), d);
+}
+
+/// Zero the per-cover values `v` on the covers of the blocks marked in `gone`.
+fn zero_on(sys: &System, gone: &[bool], v: &mut [Vec3]) {
+    for (c, x) in v.iter_mut().enumerate() {
         if gone[sys.covers.covers[c].block] {
             *x = Vec3::zeros();
         }
