@@ -1,14 +1,16 @@
 """The static stability check against the dynamic study: the tunnel key blocks' critical-friction
-study (`bench/tunnel_key_blocks.py`'s, bisection over 10–45°) on dynamic runs of 1 s and on
-static runs with `analysis.static_travel_limit`, back to back in one process each after the
-other. Writes `docs/performance-static-stability.md`.
+study (`bench/tunnel_key_blocks.py`'s, bisection over 10–45°) on dynamic runs of 1 s (the default
+integrator, and Newmark's with contact dashpots), and on static runs with
+`analysis.static_travel_limit`, one after the other in one process. Writes
+`docs/performance-static-stability.md`.
 
-    python bench/static_stability.py [--tolerance 0.5] [--work DIR]
+    python bench/static_stability.py [--tolerance 0.5] [--damping-ratio 0.3] [--work DIR]
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import shutil
 import tempfile
@@ -17,9 +19,10 @@ from pathlib import Path
 
 import nmm3d
 from _page import write_page
-from tunnel_key_blocks import CRITERION, CRITERION_TIME, EXAMPLE, classify, study, tunnel_profile
+from tunnel_key_blocks import CRITERION, CRITERION_TIME, EXAMPLE, IMAGES, classify, study, tunnel_profile
 
 PAGE = Path(__file__).resolve().parent.parent / "docs" / "performance-static-stability.md"
+FIGURE = IMAGES / "static_stability_band.png"
 #: The static runs: Δt only regularises; pseudo-time limit [s]; travel limit [m].
 STATIC_DT, STATIC_TIME, TRAVEL_LIMIT = 1.0, 20.0, 2.0 * CRITERION
 
@@ -39,9 +42,43 @@ def row(label: str, s: dict, names: dict[int, str]) -> str:
     return f"| {label} | {s['runs']} | {s['run_seconds']:.0f} | {s['wall']:.0f} | {s['load']:.1f} | " + " | ".join(cells) + " |"
 
 
+def finals(out: Path) -> list[tuple[float, dict[str, float]]]:
+    """Each run of the study in `out`: its friction angle [°] and the blocks' final displacements [m]."""
+    records = [json.loads(p.read_text()) for p in (out / "runs").glob("*/record.json")]
+    return sorted((r["values"]["value"], r["final"]) for r in records if "final" in r)
+
+
+def plot(studies: dict[str, Path], names: dict[int, str], key_angles: dict[int, float], path: Path) -> None:
+    """Per key block, the final displacement of every study run against its friction angle: where
+    each kind of run puts the block's critical angle."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, len(names), figsize=(5.2 * len(names), 3.8), squeeze=False)
+    for ax, (bid, name) in zip(axes[0], names.items()):
+        for (label, out), marker in zip(studies.items(), "osD^"):
+            pts = [(phi, f[f"block:{bid}"]) for phi, f in finals(out) if f"block:{bid}" in f]
+            if pts:
+                ax.plot(*zip(*pts), marker=marker, ms=5, lw=0.6, label=label)
+        ax.axhline(CRITERION, color="k", lw=0.8, ls="--", label=f"criterion {CRITERION:g} m")
+        if bid in key_angles:
+            ax.axvline(key_angles[bid], color="grey", lw=0.8, ls=":", label="block theory")
+        ax.set(yscale="log", xlabel="friction angle φ [°]",
+               ylabel="displacement at the run's end [m]", title=name)
+        ax.grid(alpha=0.3)
+    axes[0][0].legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__)
     p.add_argument("--tolerance", type=float, default=0.5)
+    p.add_argument("--damping-ratio", type=float, default=0.3,
+                   help="contact.damping_ratio of the Newmark study (fraction of critical)")
     p.add_argument("--work", type=Path, default=Path(tempfile.gettempdir()) / "nmm3d_static_stability")
     args = p.parse_args()
     load0 = os.getloadavg()[0]
@@ -51,32 +88,52 @@ def main() -> None:
     names = {b.id: f"{name} block {b.id}" for name, b in key.items()}
     dynamic = run_study(d, list(names), args.tolerance, args.work / "dynamic", CRITERION_TIME)
     print("dynamic", dynamic["run_seconds"], dynamic["wall"], flush=True)
+    dd = nmm3d.load(EXAMPLE).to_dict()
+    dd["analysis"]["integrator"] = "newmark"
+    dd.setdefault("contact", {})["damping_ratio"] = args.damping_ratio
+    damped = run_study(dd, list(names), args.tolerance, args.work / "damped", CRITERION_TIME)
+    print("damped", damped["run_seconds"], damped["wall"], flush=True)
     ds = nmm3d.load(EXAMPLE).to_dict()
     ds["analysis"].update(kind="static", dt=STATIC_DT, static_travel_limit=TRAVEL_LIMIT)
     static = run_study(ds, list(names), args.tolerance, args.work / "static", STATIC_TIME)
     print("static", static["run_seconds"], static["wall"], flush=True)
+    key_angles = {b.id: b.mode.critical_friction_angle for b in key.values()
+                  if b.mode.critical_friction_angle is not None}
+    plot({"dynamic (default integrator)": args.work / "dynamic",
+          f"dynamic, Newmark + dashpots ξ = {args.damping_ratio:g}": args.work / "damped",
+          "static, travel limit": args.work / "static"}, names, key_angles, FIGURE)
     head = " | ".join(names.values())
     write_page(PAGE, "Static stability check against the dynamic study: the tunnel's key blocks",
                "static_stability.py", load0, [
         f"`examples/tunnel_key_blocks.toml`, per-block critical friction (`nmm3d study`, bisection over 10–45° "
         f"to {args.tolerance:g}°; a block has failed when its centroid has moved {CRITERION:g} m). Dynamic: "
-        f"{CRITERION_TIME:g} s of motion per run (as `docs/applications/tunnel-key-blocks.md`). Static: "
+        f"{CRITERION_TIME:g} s of motion per run (as `docs/applications/tunnel-key-blocks.md`), with the default "
+        "integrator (DDA's, which dissipates) and with `analysis.integrator = \"newmark\"` (which does not) and "
+        f"contact dashpots at `contact.damping_ratio = {args.damping_ratio:g}` (`docs/theory/contact.md`, "
+        "*Contact damping*). Static: "
         f"`analysis.kind = \"static\"`, Δt = {STATIC_DT:g} (a regulariser), pseudo-time limit {STATIC_TIME:g} s, "
         f"`analysis.static_travel_limit = {TRAVEL_LIMIT:g}` m: each run releases the blocks beyond it (no contact "
         "points on them), pins them where they crossed it and stops once the others are in equilibrium "
-        "(`docs/user-guide.md`, *Static or dynamic*). The two studies ran one after the other, two runs at "
+        "(`docs/user-guide.md`, *Static or dynamic*). The three studies ran one after the other, two runs at "
         "a time each.",
         "",
         f"| runs | number | run seconds | study wall [s] | load at start | {head} |",
         "|---|---:|---:|---:|---:|" + "---|" * len(names),
         row(f"dynamic, {CRITERION_TIME:g} s per run", dynamic, names),
+        row(f"dynamic, Newmark + dashpots ξ = {args.damping_ratio:g}, {CRITERION_TIME:g} s per run", damped, names),
         row(f"static, travel limit {TRAVEL_LIMIT:g} m", static, names),
         "",
         f"Static against dynamic: **{dynamic['run_seconds'] / static['run_seconds']:.1f}×** less run time, "
         f"{dynamic['wall'] / static['wall']:.1f}× less study wall time. Block theory (`nmm3d keyblocks`): "
         + ", ".join(f"{names[b.id]} {b.mode.critical_friction_angle:.1f}°" for b in key.values()
                     if b.mode.critical_friction_angle is not None)
-        + ". Why the roof block's brackets differ: `docs/theory/contact.md` (*Joint elements*).",
+        + f". Newmark with dashpots against the default dynamic runs: {damped['run_seconds'] / dynamic['run_seconds']:.2f}× "
+        "the run time. Why the roof block's brackets differ: `docs/theory/contact.md` (*Joint elements*).",
+        "",
+        "Every run of the three studies, each key block's displacement at the run's end against the "
+        "friction angle (a static run's block stops where it crossed the travel limit):",
+        "",
+        f"![final displacements against φ](images/{FIGURE.name})",
     ])
 
 

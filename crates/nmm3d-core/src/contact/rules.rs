@@ -95,7 +95,17 @@ impl ContactHistory {
         if turned > self.params.slip_turn * largest {
             changed += 1;
         }
-        (changed, if total > 0.0 { mismatch / total } else { 0.0 })
+        (changed, relative_mismatch(mismatch, total))
+    }
+}
+
+/// The mismatch relative to the updated forces' sum; infinite when every force went (all the
+/// points opened) while the solve still applied some — that step is not settled.
+fn relative_mismatch(mismatch: f64, total: f64) -> f64 {
+    match (total > 0.0, mismatch > 0.0) {
+        (true, _) => mismatch / total,
+        (false, true) => f64::INFINITY,
+        (false, false) => 0.0,
     }
 }
 
@@ -190,5 +200,13 @@ mod tests {
             let got = next_state(&r, row.normal, &held, row.limit, (BAND, RECLOSE, 2, DEEP), row.locked);
             assert_eq!(got, row.to, "{}", row.what);
         }
+    }
+
+    #[test]
+    fn a_solve_whose_points_all_opened_is_not_settled_at_any_tolerance() {
+        assert_eq!(relative_mismatch(2.0, 4.0), 0.5);
+        assert_eq!(relative_mismatch(0.0, 0.0), 0.0);
+        // The solve applied forces, the updated states carry none: every point opened.
+        assert!(relative_mismatch(1e-9, 0.0) > 0.999);
     }
 }

@@ -39,7 +39,7 @@ impl Stepper {
             // Settled when no point changes state, or when the changes move the contact forces
             // by less than the tolerance (points flipping at zero force or at the Coulomb limit
             // — side faces of neighbouring blocks — would otherwise cycle without end).
-            let tolerance = sys.scenario.analysis.open_close_tolerance;
+            let tolerance = sys.scenario.analysis.settle_tolerance();
             if changed == 0 || (tolerance > 0.0 && mismatch <= tolerance) {
                 return Ok((d, it, true));
             }

@@ -88,6 +88,10 @@ pub struct Analysis {
     /// differ from those of the updated states by at most this fraction of their sum [-]
     /// (0, the default: only when no point changes state; 1e-3 suits jointed rock masses).
     pub open_close_tolerance: f64,
+    /// The same in a static analysis, where it is the larger of the two: a static run's steps
+    /// are iterates towards the equilibrium it ends in (checked to `equilibrium_tolerance`),
+    /// not states in time [-] (addition).
+    pub static_open_close_tolerance: f64,
     /// A dynamic step with contact whose points that closed or opened gave the blocks more
     /// energy than this fraction of the run's largest energy account is repeated with Δt ×
     /// `open_close_cut`, while that halves the energy (0: never) [-] (addition).
@@ -184,6 +188,16 @@ pub enum StrainMeasure {
     GreenLagrange,
 }
 
+impl Analysis {
+    /// The open–close iteration's tolerance for this kind of analysis [-].
+    pub fn settle_tolerance(&self) -> f64 {
+        match self.kind {
+            AnalysisKind::Static => self.open_close_tolerance.max(self.static_open_close_tolerance),
+            AnalysisKind::Dynamic => self.open_close_tolerance,
+        }
+    }
+}
+
 impl Default for Analysis {
     fn default() -> Self {
         Self {
@@ -214,6 +228,7 @@ impl Default for Analysis {
             max_open_close: 12,
             open_close_cut: 0.3,
             open_close_tolerance: 0.0,
+            static_open_close_tolerance: 1e-3,
             max_energy_gain: 0.01,
             step_equilibrium_iterations: 4,
             step_equilibrium_tolerance: 1e-4,

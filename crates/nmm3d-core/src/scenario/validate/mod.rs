@@ -209,8 +209,13 @@ fn analysis(c: &mut Checker, a: &Analysis) {
     if a.max_open_close == 0 {
         c.fail("analysis.max_open_close", "must be at least 1");
     }
-    if !(a.open_close_tolerance >= 0.0 && a.open_close_tolerance < 1.0) {
-        c.fail("analysis.open_close_tolerance", "must lie in [0, 1)");
+    for (key, t) in [
+        ("open_close_tolerance", a.open_close_tolerance),
+        ("static_open_close_tolerance", a.static_open_close_tolerance),
+    ] {
+        if !(t >= 0.0 && t < 1.0) {
+            c.fail(&format!("analysis.{key}"), "must lie in [0, 1)");
+        }
     }
     if !(a.step_equilibrium_tolerance > 0.0 && a.step_equilibrium_tolerance < 1.0) {
         c.fail("analysis.step_equilibrium_tolerance", "must lie in (0, 1)");
