@@ -213,8 +213,8 @@ fn analysis(c: &mut Checker, a: &Analysis) {
         ("open_close_tolerance", a.open_close_tolerance),
         ("static_open_close_tolerance", a.static_open_close_tolerance),
     ] {
-        if !(t >= 0.0 && t < 1.0) {
-            c.fail(&format!("analysis.{key}"), "must lie in [0, 1)");
+        if !(0.0..1.0).contains(&t) {
+            c.fail(format!("analysis.{key}"), "must lie in [0, 1)");
         }
     }
     if !(a.step_equilibrium_tolerance > 0.0 && a.step_equilibrium_tolerance < 1.0) {
