@@ -191,18 +191,7 @@ mod tests {
 
     /// A grid of `nx × ny × nz` covers (7-point stencil, 3 × 3 blocks), diagonally dominant.
     fn grid(nx: usize, ny: usize, nz: usize) -> (SparsityPattern, Vec<f64>) {
-        let id = |i: usize, j: usize, k: usize| i + nx * (j + ny * k);
-        let n = nx * ny * nz;
-        let dofs = crate::assembly::DofMap::new(&vec![false; n], &vec![None; n]);
-        let mut cliques = Vec::new();
-        for (i, j, k) in (0..nz).flat_map(|k| (0..ny).flat_map(move |j| (0..nx).map(move |i| (i, j, k)))) {
-            for (di, dj, dk) in [(1, 0, 0), (0, 1, 0), (0, 0, 1)] {
-                if i + di < nx && j + dj < ny && k + dk < nz {
-                    cliques.push(vec![id(i, j, k), id(i + di, j + dj, k + dk)]);
-                }
-            }
-        }
-        let p = SparsityPattern::from_cliques(&dofs, cliques.iter().map(|c| c.as_slice()));
+        let p = crate::solver::ordering::tests::grid(nx, ny, nz);
         let values = (0..p.n)
             .flat_map(|j| (p.col_ptr[j]..p.col_ptr[j + 1]).map(move |e| (j, e as usize)))
             .map(|(j, e)| if p.row_idx[e] as usize == j { 10.0 } else { -0.1 })

@@ -112,12 +112,12 @@ fn metis_node_nd(n: usize, mut xadj: Vec<i32>, mut adjncy: Vec<i32>) -> Option<V
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::assembly::DofMap;
 
     /// An nx × ny × nz grid graph of covers, 7-point stencil.
-    fn grid(nx: usize, ny: usize, nz: usize) -> SparsityPattern {
+    pub(crate) fn grid(nx: usize, ny: usize, nz: usize) -> SparsityPattern {
         let id = |i: usize, j: usize, k: usize| i + nx * (j + ny * k);
         let n = nx * ny * nz;
         let dofs = DofMap::new(&vec![false; n], &vec![None; n]);
