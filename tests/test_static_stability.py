@@ -27,6 +27,16 @@ def static_scenario(phi: float) -> dict:
     return data
 
 
+def static_tunnel(phi: float, limit: float) -> dict:
+    """`examples/tunnel_key_blocks.toml` as a static stability check at φ with a travel limit [m]."""
+    data = nmm3d.load(EXAMPLES / "tunnel_key_blocks.toml").to_dict()
+    data.pop("expect", None)
+    data["joint"][0]["friction_angle"] = phi
+    data["analysis"].update(kind="static", dt=1.0, duration=PSEUDO_TIME, output_interval=0.0,
+                            static_travel_limit=limit)
+    return data
+
+
 def wedge_block(out) -> int:
     with open(out / "blocks.csv", newline="") as f:
         return next(int(r["id"]) for r in csv.DictReader(f) if r["body"] == "wedge")
@@ -72,12 +82,7 @@ def test_released_tunnel_key_blocks_stay_where_they_crossed_the_limit(tmp_path):
     rest of the rock mass is in equilibrium), so a falling block neither cuts the step nor runs
     through the rock."""
     limit = 0.002
-    data = nmm3d.load(EXAMPLES / "tunnel_key_blocks.toml").to_dict()
-    data.pop("expect", None)
-    data["joint"][0]["friction_angle"] = 20.0
-    data["analysis"].update(kind="static", dt=1.0, duration=PSEUDO_TIME, output_interval=0.0,
-                            static_travel_limit=limit)
-    s = nmm3d.Scenario.from_dict(data).run(out=tmp_path / "run").summary
+    s = nmm3d.Scenario.from_dict(static_tunnel(20.0, limit)).run(out=tmp_path / "run").summary
     assert s["status"] == "not_converged" and s["not_held"], s["message"]
     with open(tmp_path / "run" / "history.csv", newline="") as f:
         rows = list(csv.DictReader(f))
@@ -143,11 +148,7 @@ def test_a_static_run_settles_its_contacts_at_the_static_tolerance(tmp_path):
     """A static run's steps are iterates towards its end, so its open–close iteration settles at
     `static_open_close_tolerance` (1e-3): the tunnel's key blocks held at 30° in fewer iterations
     than with every point's state exact, at the same rest."""
-    data = nmm3d.load(EXAMPLES / "tunnel_key_blocks.toml").to_dict()
-    data.pop("expect", None)
-    data["joint"][0]["friction_angle"] = 30.0
-    data["analysis"].update(kind="static", dt=1.0, duration=PSEUDO_TIME, output_interval=0.0,
-                            static_travel_limit=LIMIT)
+    data = static_tunnel(30.0, LIMIT)
     runs = {}
     for tol in (0.0, 1e-3):
         data["analysis"]["static_open_close_tolerance"] = tol
