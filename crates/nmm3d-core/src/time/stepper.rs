@@ -3,71 +3,31 @@
 //! Per step: assemble the co-rotated tangent and the unbalanced force at the current
 //! configuration (once), then for each trial Δt combine with the mass term, factorise (the
 //! symbolic analysis is reused), solve, judge the displacement ratio, and either accept
-//! (update positions, velocities, accelerations) or retry with a smaller Δt.
+//! (update positions, velocities, accelerations: `finish`) or retry with a smaller Δt.
 
 use std::time::Instant;
 
 use nmm3d_geom::Vec3;
 
 use super::account::{self, Increment};
-use super::base_motion::{advance_base, jump_acceleration};
+use super::base_motion::jump_acceleration;
 use super::contact_pattern::ContactPattern;
 use super::cut::{self, Cut, CutReason};
 use super::energy::Energy;
-use super::gain::{self, GainVerdict};
+use super::gain;
 use super::integrator::{Newmark, StepCoefficients};
+use super::report::{PhaseTimes, StepReport};
 use super::setup::{contact_params, solver};
 use super::state::{State, StepperState};
 use super::step_control::{self, Verdict};
 use super::vectors::unbalanced_ratio;
-use super::vectors::{add_to, gather, kinetic_energy, lumped_mass, mass_times, scale, scatter_into, solver_error};
-use crate::contact::{overlap_problems, ContactHistory, ContactSurfaces};
+use super::vectors::{add_to, gather, lumped_mass, mass_times, scale, scatter_into, solver_error};
+use crate::contact::{overlap_problems, ContactHistory, ContactRecord, ContactSurfaces};
 use crate::error::{Error, Result};
 use crate::scenario::AnalysisKind;
 use crate::solver::ReusingSolver;
 use crate::state::Motion;
 use crate::system::System;
-
-/// Diagnostics of one accepted step.
-#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct StepReport {
-    /// Contact points detected at the start of the step.
-    pub contacts: usize,
-    /// Open–close iterations of the accepted trial.
-    pub open_close: u32,
-    /// Largest penetration after the step [m].
-    pub max_penetration: f64,
-    /// Accepted step [s].
-    pub dt: f64,
-    /// Rejected trials before acceptance.
-    pub cuts: u32,
-    /// Displacement ratio of the accepted step.
-    pub ratio: f64,
-    /// Unbalanced force / force scale at the start of the step.
-    pub unbalanced: f64,
-    /// Energy accounts after the step (dynamic runs; zero otherwise).
-    pub energy: Energy,
-}
-
-/// Seconds spent per phase.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct PhaseTimes {
-    /// Element loop and scatter.
-    pub assembly: f64,
-    /// Matrices combined and factorised (symbolic analysis included), with their solve.
-    pub factorization: f64,
-    /// Systems solved by PCG on an earlier factor (matrices combined included).
-    pub krylov: f64,
-    /// Right-hand sides gathered, solutions scattered.
-    pub solve: f64,
-    /// Open–close iterations beyond the first (their factorisations and solves included).
-    pub open_close: f64,
-    /// Equilibrium iterations of dynamic steps (their element loops and solves).
-    pub equilibrium: f64,
-    /// Sparsity pattern growth for newly closed ME pairs (the symbolic analysis that follows
-    /// is counted with the factorisation).
-    pub pattern: f64,
-}
 
 /// Orchestrates steps: the model's contact surfaces, the linear solver with its factor and the
 /// matrix pattern (caches), and work buffers. What a run changes is its [`State`].
@@ -194,10 +154,10 @@ impl Stepper {
             start_contact
         };
         let unbalanced = unbalanced_ratio(sys, run, &super::held::of_held(sys, &state.u, &start_force));
-        let mut start_records = contact.as_ref().map(|h| h.records.clone());
+        let records = contact.as_ref().map(|h| h.records.clone());
         // The springs' energy at the start: the first step's is part of the initial energy
         // (springs loaded by the initial equilibrium or by overlapping input).
-        let springs0 = contact.as_ref().map_or(0.0, ContactHistory::spring_energy);
+        let springs = contact.as_ref().map_or(0.0, ContactHistory::spring_energy);
         self.times.assembly += t.elapsed().as_secs_f64();
         let analysis = &sys.scenario.analysis;
         let mut dt = state.dt.min(dt_cap);
@@ -207,17 +167,27 @@ impl Stepper {
             dt = seismic.next_jump(state.time).map_or(dt, |b| dt.min(b - state.time));
             jump_acceleration(sys, state);
         }
-        // M v and M a of the start (after a jump of the base: what `accept` goes on from).
-        let (mv, ma) = (mass_times(sys, &state.v), mass_times(sys, &state.a));
         if Self::balanced_static(sys, run, contact.is_some(), state.step, unbalanced) {
             // Converged before this step's solve: the step is taken with no increment.
             self.accept(sys, (state, run), &vec![Vec3::zeros(); residual.len()], dt);
             return Ok(StepReport { dt, unbalanced, ..StepReport::default() });
         }
+        // M v and M a of the start (after a jump of the base: what `accept` goes on from).
+        let (mv, ma) = (mass_times(sys, &state.v), mass_times(sys, &state.a));
+        let mut start = StepStart {
+            residual,
+            force: start_force,
+            contact: contact_start,
+            base: base_start,
+            damper: damper_start,
+            mv,
+            ma,
+            springs,
+            unbalanced,
+            records,
+        };
         let (mut cuts, mut trials, mut arrivals) = (0, 0, 0);
-        // The energy the last trial gave at its contacts and its Δt, if it was cut for it, and
-        // whether the step may still be cut for it (`gain`).
-        let (mut gain_tried, mut gain_guard) = (None, true);
+        let mut guard = GainGuard { tried: None, armed: true };
         let dynamic = run.inertia && !run.locked && analysis.kind != AnalysisKind::Static;
         let push_budget = gain::push_budget(analysis, dynamic, run.energy.as_ref());
         loop {
@@ -228,7 +198,7 @@ impl Stepper {
             };
             // Every trial starts from the step's start states (the first one has them already).
             trials += 1;
-            if let (Some(h), Some(saved), true) = (contact.as_mut(), start_records.as_ref(), trials > 1) {
+            if let (Some(h), Some(saved), true) = (contact.as_mut(), start.records.as_ref(), trials > 1) {
                 h.records = saved.clone();
             }
             // The dashpots act on velocities: only in a dynamic step, with this trial's Δt.
@@ -244,12 +214,12 @@ impl Stepper {
             let moved;
             let trial_residual = match &base_end {
                 Some(f) => {
-                    moved = residual.iter().zip(f).map(|(r, f)| r + f).collect::<Vec<_>>();
+                    moved = start.residual.iter().zip(f).map(|(r, f)| r + f).collect::<Vec<_>>();
                     &moved
                 }
-                None => &residual,
+                None => &start.residual,
             };
-            let trial = Trial { residual: trial_residual, mv: &mv, ma: &ma, k, keep };
+            let trial = Trial { residual: trial_residual, mv: &start.mv, ma: &start.ma, k, keep };
             let (mut d, iterations, settled) = self.open_close(sys, (state, contact.as_mut()), &trial)?;
             super::held::pin(sys, &state.u, &mut d);
             let dmax = d.iter().map(|x| x.norm()).fold(0.0, f64::max);
@@ -259,7 +229,7 @@ impl Stepper {
             let moved = contact.as_ref().is_some_and(|h| run.undetected + dmax >= h.params.tolerance);
             let detect = moved && arrivals < sys.scenario.contact.arrival_rounds;
             if settled
-                && self.arrivals(sys, (state, contact.as_mut()), &d, start_records.as_mut(), (push_budget, detect))
+                && self.arrivals(sys, (state, contact.as_mut()), &d, start.records.as_mut(), (push_budget, detect))
             {
                 arrivals += 1;
                 continue;
@@ -276,7 +246,7 @@ impl Stepper {
                 run.penalty_raises += 1;
                 let why = self.why(sys, (state, contact.as_ref()), dt, CutReason::PenaltyRaised, (&d, ratio));
                 self.cuts.push(why);
-                if let (Some(h), Some(saved)) = (contact.as_mut(), start_records.as_mut()) {
+                if let (Some(h), Some(saved)) = (contact.as_mut(), start.records.as_mut()) {
                     h.stiffen(raise);
                     saved.iter_mut().for_each(|r| r.stiffen(raise));
                 }
@@ -296,98 +266,11 @@ impl Stepper {
             }
             match verdict {
                 Verdict::Accept => {
-                    let end_residual = match dynamic && analysis.step_equilibrium_iterations > 0 {
-                        true => {
-                            let clock = Instant::now();
-                            let r1 = self.equilibrate(sys, (state, run), &residual, &mut d)?;
-                            self.times.equilibrium += clock.elapsed().as_secs_f64();
-                            r1
-                        }
-                        false => None,
-                    };
-                    // What to go back to if the step gives energy at its contacts (`gain`; only
-                    // a step where some point opened or closed can).
-                    let events = contact.as_ref().is_some_and(ContactHistory::any_event);
-                    let undo =
-                        gain::guarded(analysis, gain_guard && dynamic && events).then(|| (state.clone(), run.clone()));
-                    run.undetected += d.iter().map(|x| x.norm()).fold(0.0, f64::max);
-                    let kinetic0 = kinetic_energy(sys, &state.v, &mv);
-                    if shaking(sys, run) {
-                        advance_base(sys, state, dt);
+                    let a = Accepted { d, dt, ratio, iterations, base_end, cuts };
+                    match self.finish(sys, (state, contact, run), &start, a, &mut guard)? {
+                        Finish::Taken(report) => return Ok(report),
+                        Finish::Cut(next) => (dt, cuts) = (next, cuts + 1),
                     }
-                    self.accept(sys, (state, run), &d, dt);
-                    self.update_bolts(sys, state);
-                    let (contacts, max_penetration, friction, springs, damping) = match contact.as_mut() {
-                        Some(h) => {
-                            let friction = h.accept();
-                            h.finish_damping(sys, &d);
-                            let damping = damper_start.as_ref().map_or(0.0, |f0| h.damping_work(sys, &d, f0));
-                            (h.records.len(), h.max_penetration(), friction, h.spring_energy(), damping)
-                        }
-                        None => (0, 0.0, 0.0, 0.0, 0.0),
-                    };
-                    let mut contact_end = vec![Vec3::zeros(); d.len()];
-                    if let Some(h) = contact.as_ref() {
-                        h.add_end_forces(sys, &mut contact_end);
-                    }
-                    // The contacts' work on the blocks by the scheme's rule (the mean of the
-                    // forces its start and end accelerations carry).
-                    let contact_work: f64 = d
-                        .iter()
-                        .zip(&contact_start)
-                        .zip(&contact_end)
-                        .map(|((d, f0), f1)| 0.5 * d.dot(&(f0 + f1)))
-                        .sum();
-                    run.contact_end = contact_end;
-                    state.dt = step_control::next_dt(analysis, dt, ratio);
-                    // M a₀: the scheme's acceleration at the start (the last step's end), except at
-                    // the first step, where the unbalanced force stands for it.
-                    let m_a0 = if run.energy.is_some() { &ma } else { &start_force };
-                    let energy = self.account(
-                        sys,
-                        (state, run),
-                        &Increment {
-                            d: &d,
-                            residual: &residual,
-                            end_residual: end_residual.as_deref(),
-                            base: (base_start.as_deref(), base_end.as_deref()),
-                            m_a0,
-                            kinetic0,
-                            friction,
-                            damping,
-                            springs: (springs0, springs),
-                            contact_work,
-                        },
-                    );
-                    if let Some((motion, before)) = undo {
-                        let gained = match (contact.as_ref(), start_records.as_ref()) {
-                            (Some(h), Some(start)) => h.event_gain(start, self.newmark.gamma),
-                            _ => 0.0,
-                        };
-                        let verdict = gain::judge(analysis, dt, gained, energy.largest(), gain_tried);
-                        if let GainVerdict::Cut(next) | GainVerdict::Back(next) = verdict {
-                            let why =
-                                self.why(sys, (&motion, contact.as_ref()), dt, CutReason::EnergyGain, (&d, gained));
-                            self.cuts.push(why);
-                            (*state, *run) = (motion, before);
-                            (gain_tried, gain_guard) = (Some((gained, dt)), matches!(verdict, GainVerdict::Cut(_)));
-                            (dt, cuts) = (next, cuts + 1);
-                            continue;
-                        }
-                    }
-                    if let Some(h) = contact.as_mut() {
-                        h.travel.add(sys, &d);
-                    }
-                    return Ok(StepReport {
-                        dt,
-                        cuts,
-                        ratio,
-                        unbalanced,
-                        contacts,
-                        open_close: iterations,
-                        max_penetration,
-                        energy,
-                    });
                 }
                 Verdict::Retry(smaller) => {
                     dt = smaller;
@@ -403,7 +286,7 @@ impl Stepper {
 
     /// Add an accepted step to the energy accounts (dynamic runs outside the initial
     /// equilibrium) and return them.
-    fn account(&self, sys: &System, (state, run): (&Motion, &mut StepperState), s: &Increment) -> Energy {
+    pub(super) fn account(&self, sys: &System, (state, run): (&Motion, &mut StepperState), s: &Increment) -> Energy {
         if run.locked || sys.scenario.analysis.kind == AnalysisKind::Static {
             return Energy::default();
         }
@@ -428,6 +311,60 @@ impl Stepper {
     }
 }
 
+/// What every trial of a step starts from.
+pub(super) struct StepStart {
+    /// The unbalanced force at the start, without contacts or a moving base.
+    pub(super) residual: Vec<Vec3>,
+    /// The unbalanced force at the start with the contacts and the base: M a₀ of a first step.
+    pub(super) force: Vec<Vec3>,
+    /// The contact forces the start acceleration carries.
+    pub(super) contact: Vec<Vec3>,
+    /// A moving base's force at the start.
+    pub(super) base: Option<Vec<Vec3>>,
+    /// The dashpots' part of the start forces.
+    pub(super) damper: Option<Vec<Vec3>>,
+    /// M v of the start.
+    pub(super) mv: Vec<Vec3>,
+    /// M a of the start.
+    pub(super) ma: Vec<Vec3>,
+    /// The springs' energy at the start [J].
+    pub(super) springs: f64,
+    /// Unbalanced force ratio at the start.
+    pub(super) unbalanced: f64,
+    /// The contact records at the start (every trial starts from them).
+    pub(super) records: Option<Vec<ContactRecord>>,
+}
+
+/// The accepted trial of a step (taken by `finish`).
+pub(super) struct Accepted {
+    /// The increment (the end equilibrium corrects it).
+    pub(super) d: Vec<Vec3>,
+    pub(super) dt: f64,
+    /// Its displacement ratio.
+    pub(super) ratio: f64,
+    /// Its open–close iterations.
+    pub(super) iterations: u32,
+    /// A moving base's force at the end.
+    pub(super) base_end: Option<Vec<Vec3>>,
+    /// Rejected trials before it.
+    pub(super) cuts: u32,
+}
+
+/// The energy-gain check across a step's trials: the energy the last trial gave at its contacts
+/// and its Δt, if it was cut for it, and whether the step may still be cut for it (`gain`).
+pub(super) struct GainGuard {
+    pub(super) tried: Option<(f64, f64)>,
+    pub(super) armed: bool,
+}
+
+/// How an accepted trial ended.
+pub(super) enum Finish {
+    /// The step is taken.
+    Taken(StepReport),
+    /// It gave energy at its contacts: back to the start, again with this Δt.
+    Cut(f64),
+}
+
 /// What every trial of a step solves with: the unbalanced force at the start, M v and M a of
 /// the start, and the Newmark coefficients of the trial's Δt.
 #[derive(Clone, Copy)]
@@ -442,6 +379,6 @@ pub(super) struct Trial<'a> {
 
 /// Whether the base shakes now (not while the initial equilibrium settles: the shaking starts
 /// after it).
-fn shaking(sys: &System, run: &StepperState) -> bool {
+pub(super) fn shaking(sys: &System, run: &StepperState) -> bool {
     !run.locked && sys.scenario.seismic.moves()
 }
