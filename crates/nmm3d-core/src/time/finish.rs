@@ -13,7 +13,7 @@ use super::gain::{self, GainVerdict};
 use super::report::StepReport;
 use super::state::StepperState;
 use super::step_control;
-use super::stepper::{shaking, Accepted, Finish, GainGuard, StepStart, Stepper};
+use super::stepper::{dynamic, shaking, Accepted, Finish, GainGuard, StepStart, Stepper};
 use super::vectors::kinetic_energy;
 use crate::contact::ContactHistory;
 use crate::error::Result;
@@ -31,12 +31,11 @@ impl Stepper {
         guard: &mut GainGuard,
     ) -> Result<Finish> {
         let analysis = &sys.scenario.analysis;
-        let dynamic = run.inertia && !run.locked && analysis.kind != crate::scenario::AnalysisKind::Static;
-        let (dt, d) = (a.dt, &mut a.d);
+        let (dt, dynamic) = (a.dt, dynamic(sys, run));
         let end_residual = match dynamic && analysis.step_equilibrium_iterations > 0 {
             true => {
                 let clock = Instant::now();
-                let r1 = self.equilibrate(sys, (state, run), &start.residual, d)?;
+                let r1 = self.equilibrate(sys, (state, run), &start.residual, &mut a.d)?;
                 self.times.equilibrium += clock.elapsed().as_secs_f64();
                 r1
             }
@@ -89,17 +88,10 @@ impl Stepper {
             contact_work,
         };
         let energy = self.account(sys, (state, run), &increment);
-        if let Some((motion, before)) = undo {
-            let gained = match (contact.as_ref(), start.records.as_ref()) {
-                (Some(h), Some(records)) => h.event_gain(records, self.newmark.gamma),
-                _ => 0.0,
-            };
-            let verdict = gain::judge(analysis, dt, gained, energy.largest(), guard.tried);
-            if let GainVerdict::Cut(next) | GainVerdict::Back(next) = verdict {
-                let why = self.why(sys, (&motion, contact.as_ref()), dt, CutReason::EnergyGain, (d, gained));
-                self.cuts.push(why);
-                (*state, *run) = (motion, before);
-                (guard.tried, guard.armed) = (Some((gained, dt)), matches!(verdict, GainVerdict::Cut(_)));
+        if let Some(undo) = undo {
+            if let Some(next) =
+                self.gain_cut(sys, (state, contact.as_ref(), run), (start, d, dt), energy.largest(), undo, guard)
+            {
                 return Ok(Finish::Cut(next));
             }
         }
@@ -108,5 +100,30 @@ impl Stepper {
         }
         let (ratio, unbalanced, open_close, cuts) = (a.ratio, start.unbalanced, a.iterations, a.cuts);
         Ok(Finish::Taken(StepReport { dt, cuts, ratio, unbalanced, contacts, open_close, max_penetration, energy }))
+    }
+
+    /// The energy-gain check of a taken step (`gain`): if its contact events gave the blocks
+    /// more than the analysis allows, the state goes back to `undo` (the step's start) and the
+    /// smaller Δt to try is returned.
+    fn gain_cut(
+        &mut self,
+        sys: &System,
+        (state, contact, run): (&mut Motion, Option<&ContactHistory>, &mut StepperState),
+        (start, d, dt): (&StepStart, &[Vec3], f64),
+        largest: f64,
+        (motion, before): (Motion, StepperState),
+        guard: &mut GainGuard,
+    ) -> Option<f64> {
+        let gained = match (contact, start.records.as_ref()) {
+            (Some(h), Some(records)) => h.event_gain(records, self.newmark.gamma),
+            _ => 0.0,
+        };
+        let verdict = gain::judge(&sys.scenario.analysis, dt, gained, largest, guard.tried);
+        let (GainVerdict::Cut(next) | GainVerdict::Back(next)) = verdict else { return None };
+        let why = self.why(sys, (&motion, contact), dt, CutReason::EnergyGain, (d, gained));
+        self.cuts.push(why);
+        (*state, *run) = (motion, before);
+        (guard.tried, guard.armed) = (Some((gained, dt)), matches!(verdict, GainVerdict::Cut(_)));
+        Some(next)
     }
 }

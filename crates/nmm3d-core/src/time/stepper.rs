@@ -188,7 +188,7 @@ impl Stepper {
         };
         let (mut cuts, mut trials, mut arrivals) = (0, 0, 0);
         let mut guard = GainGuard { tried: None, armed: true };
-        let dynamic = run.inertia && !run.locked && analysis.kind != AnalysisKind::Static;
+        let dynamic = dynamic(sys, run);
         let push_budget = gain::push_budget(analysis, dynamic, run.energy.as_ref());
         loop {
             let k = if run.inertia {
@@ -378,6 +378,13 @@ pub(super) struct Trial<'a> {
 }
 
 /// Whether the base shakes now (not while the initial equilibrium settles: the shaking starts
+/// Whether a step follows motion in time: inertia on, outside the locked initial equilibrium,
+/// in a dynamic analysis (the dashpots, the energy-gain check and the end equilibrium act only
+/// then).
+pub(super) fn dynamic(sys: &System, run: &StepperState) -> bool {
+    run.inertia && !run.locked && sys.scenario.analysis.kind != AnalysisKind::Static
+}
+
 /// after it).
 pub(super) fn shaking(sys: &System, run: &StepperState) -> bool {
     !run.locked && sys.scenario.seismic.moves()
