@@ -147,7 +147,7 @@ impl Stepper {
         }
         add_to(&mut start_force, Some(&start_contact));
         // The contact forces the start acceleration carries: the last step's end forces, except
-        // at the first step (see `m_a0` below).
+        // at the first step (see `m_a0` in `finish`).
         let contact_start = if run.energy.is_some() && run.contact_end.len() == residual.len() {
             std::mem::take(&mut run.contact_end)
         } else {
