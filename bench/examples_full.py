@@ -52,6 +52,7 @@ def run(example: Path, timeout: float) -> dict:
         "overlap": s.get("max_penetration", 0.0),
         "missed": s.get("missed_overlaps", 0),
         "balance": energy.get("max_error_ratio"),
+        "gain": energy.get("max_gain_ratio"),
         "warning": energy.get("warning"),
         "wall": wall,
         "message": s.get("message", ""),
@@ -65,13 +66,14 @@ def cell(text: str) -> str:
 
 def row(name: str, r: dict) -> str:
     if "steps" not in r:
-        return f"| {name} | {r['status']} | | | | | | | {r['wall']:.0f} | {cell(r.get('message', ''))} |"
+        return f"| {name} | {r['status']} | | | | | | | | {r['wall']:.0f} | {cell(r.get('message', ''))} |"
     cuts = ", ".join(f"{v} {k}" for k, v in sorted(r["cuts"].items())) or "0"
     balance = "–" if r["balance"] is None else f"{r['balance']:.1e}"
+    gain = "–" if r["gain"] is None else f"{max(r['gain'], 0.0):.1e}"
     if r["warning"]:
         balance += " (warning)"
     return (f"| {name} | {r['status']} | {r['time']:g} | {r['steps']} | {cuts} | {1e3 * r['overlap']:.3g} | "
-            f"{r['missed']} | {balance} | {r['wall']:.0f} | {cell(r['message'])} |")
+            f"{r['missed']} | {balance} | {gain} | {r['wall']:.0f} | {cell(r['message'])} |")
 
 
 def main() -> None:
@@ -93,12 +95,15 @@ def main() -> None:
         "contact overlap [mm]; *late*: overlaps found deeper than a detection lets one arise, or",
         "whose push would give the blocks energy (`missed_overlaps`); *balance*: the largest energy",
         "balance error over the run relative to the",
-        "largest account ([theory/energy.md](theory/energy.md); static runs have none); step cuts by",
+        "largest account ([theory/energy.md](theory/energy.md); static runs have none); *gain*: the",
+        "largest kinetic and strain energy held beyond what the loads and the start gave, relative",
+        "to the same account (`max_gain_ratio`, energy from nowhere that the balance books as negative",
+        "dissipation, [theory/energy.md](theory/energy.md#energy-from-nowhere-the-gain)); step cuts by",
         "their reason in `cuts.csv`.",
         f"Machine: {platform.machine()}, {os.cpu_count()} cores, load {load0:.1f} before and {load1:.1f} after.",
         "",
-        "| example | status | simulated [s] | steps | step cuts | overlap [mm] | late | balance | wall [s] | message |",
-        "|---|---|---|---|---|---|---|---|---|---|",
+        "| example | status | simulated [s] | steps | step cuts | overlap [mm] | late | balance | gain | wall [s] | message |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
         *rows,
         "",
     ]))

@@ -32,10 +32,15 @@ class EnergySummary:
     max_error_ratio: float
     #: when that largest error occurred [s]
     max_error_time: float
-    #: set when ``max_error_ratio`` exceeds 5 %
+    #: set when ``max_error_ratio`` or ``max_gain_ratio`` exceeds 5 %
     warning: str | None
     #: taken by the contact dashpots (``contact.damping_ratio``); 0 in summaries before them
     damping_dissipation: float = 0.0
+    #: largest kinetic and strain energy held beyond what the loads and the start gave
+    #: (energy the contacts created) relative to the largest account; 0 in summaries before it
+    max_gain_ratio: float = 0.0
+    #: when that largest gain occurred [s]
+    max_gain_time: float = 0.0
 
 
 @dataclass(frozen=True)

@@ -164,11 +164,19 @@ pub struct EnergySummary {
     pub max_error_ratio: f64,
     /// When that largest error occurred [s].
     pub max_error_time: f64,
-    /// Set when `max_error_ratio` exceeds 5 %.
+    /// Set when `max_error_ratio` or `max_gain_ratio` exceeds 5 %.
     pub warning: Option<String>,
     /// Energy dissipated by the contact dashpots (`contact.damping_ratio`) [J].
     #[serde(default)]
     pub damping_dissipation: f64,
+    /// Largest gain over the run — the kinetic and strain energy the blocks held beyond the
+    /// energy the loads and the start gave them, energy the contacts created — relative to the
+    /// largest account of the run (0 in summaries before it).
+    #[serde(default)]
+    pub max_gain_ratio: f64,
+    /// When that largest gain occurred [s].
+    #[serde(default)]
+    pub max_gain_time: f64,
 }
 
 /// Step cuts by reason and block, and the accepted steps by size.

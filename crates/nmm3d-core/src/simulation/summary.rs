@@ -126,9 +126,10 @@ fn initial_equilibrium(sys: &System, s: &Settled) -> InitialEquilibrium {
     InitialEquilibrium { steps: s.steps, unbalanced_force_ratio: s.unbalanced, converged, warning }
 }
 
-/// The energy accounts at the end [J], the largest balance error over the run relative to the
-/// largest account of the run, and a warning when it exceeds [`ENERGY_ERROR_BOUND`]; `None`
-/// for runs without accounts (static).
+/// The energy accounts at the end [J], the largest balance error and the largest gain
+/// ([`crate::time::Energy::gain`]) over the run relative to the largest account of the run,
+/// and a warning when either exceeds [`ENERGY_ERROR_BOUND`]; `None` for runs without accounts
+/// (static).
 fn energy_summary(
     end: Option<&crate::time::Energy>,
     rows: &[(f64, u64, crate::time::StepReport)],
@@ -137,13 +138,30 @@ fn energy_summary(
     // Relative to the largest account of the whole run: early steps, with little energy yet,
     // would otherwise make round-off look large.
     let scale = rows.iter().map(|(_, _, r)| r.energy.largest()).fold(0.0, f64::max);
-    let worst = rows
-        .iter()
-        .map(|(t, _, r)| (r.energy.error().abs() / scale.max(f64::MIN_POSITIVE), *t))
-        .fold((0.0, 0.0), |m, x| if x.0 > m.0 { x } else { m });
-    let warning = (worst.0 > ENERGY_ERROR_BOUND).then(|| {
-        format!("the energy balance error reached {:.1} % of the largest energy account at t = {:.6} s (bound {:.0} %): look for impacts in diagnostics.csv", 100.0 * worst.0, worst.1, 100.0 * ENERGY_ERROR_BOUND)
-    });
+    let largest_over_run = |of: fn(&crate::time::Energy) -> f64| {
+        rows.iter().map(|(t, _, r)| (of(&r.energy) / scale.max(f64::MIN_POSITIVE), *t)).fold((0.0, 0.0), |m, x| {
+            if x.0 > m.0 {
+                x
+            } else {
+                m
+            }
+        })
+    };
+    let worst = largest_over_run(|e| e.error().abs());
+    let gain = largest_over_run(crate::time::Energy::gain);
+    let bound = 100.0 * ENERGY_ERROR_BOUND;
+    let warnings: Vec<String> = [
+        (worst.0 > ENERGY_ERROR_BOUND).then(|| {
+            format!("the energy balance error reached {:.1} % of the largest energy account at t = {:.6} s (bound {bound:.0} %): look for impacts in diagnostics.csv", 100.0 * worst.0, worst.1)
+        }),
+        (gain.0 > ENERGY_ERROR_BOUND).then(|| {
+            format!("the blocks held {:.1} % of the largest energy account more kinetic and strain energy than the loads and the start gave them, at t = {:.6} s (bound {bound:.0} %): energy from nowhere, booked as negative dissipation ({}; diagnostics.csv) — an undamped integrator on blocks that bounce on their joints: damp the contacts (contact.damping_ratio) or keep the default integrator", 100.0 * gain.0, gain.1, negative_accounts(e))
+        }),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+    let warning = (!warnings.is_empty()).then(|| warnings.join("; "));
     Some(EnergySummary {
         kinetic: e.kinetic,
         elastic: e.elastic,
@@ -157,7 +175,21 @@ fn energy_summary(
         max_error_time: worst.1,
         warning,
         damping_dissipation: e.damping,
+        max_gain_ratio: gain.0,
+        max_gain_time: gain.1,
     })
+}
+
+/// The dissipation accounts that ended negative, named with their values.
+fn negative_accounts(e: &crate::time::Energy) -> String {
+    let named = [("numerical_dissipation", e.numerical), ("contact_event_dissipation", e.contact_events)];
+    let negative: Vec<String> =
+        named.iter().filter(|(_, v)| *v < 0.0).map(|(name, v)| format!("{name} = {v:.4} J at the end")).collect();
+    if negative.is_empty() {
+        "none negative at the end".into()
+    } else {
+        negative.join(", ")
+    }
 }
 
 /// Balance error, relative to the largest energy account, beyond which a run is warned about.
