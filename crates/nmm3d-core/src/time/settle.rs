@@ -73,6 +73,10 @@ impl Stepper {
             let last_move: Vec<f64> = m.u.iter().zip(&u_last).map(|(u, u0)| (u - u0).norm()).collect();
             out.moving = still_moving(sys, &last_move);
         }
+        // The run starts from the acceleration of the settled state, whose contacts hold the
+        // blocks (not from the one before it, where nothing held them yet).
+        let residual = self.initial_residual(sys, state);
+        self.start_acceleration(sys, state, residual)?;
         Ok(out)
     }
 }

@@ -94,22 +94,49 @@ impl Stepper {
     }
 
     /// The force scale of the unbalanced force ratio, and the initial acceleration
-    /// M a₀ = F − F_int(x₀), needed when β ≠ ½.
+    /// ([`Self::start_acceleration`]).
     pub fn initialize(&mut self, sys: &System, whole: &mut State) -> Result<()> {
-        let (state, run) = (&mut whole.motion, &mut whole.stepper);
+        let residual = self.initial_residual(sys, whole);
+        whole.stepper.force_scale = scale(sys, &residual).max(scale(sys, &self.loads));
+        self.start_acceleration(sys, whole, residual)
+    }
+
+    /// The unbalanced force where the run starts, without the contacts, with a shaking base's
+    /// force (the first step takes the assembly, `assembled`).
+    pub(super) fn initial_residual(&mut self, sys: &System, whole: &mut State) -> Vec<Vec3> {
+        let (state, run) = (&mut whole.motion, &whole.stepper);
         let mut residual = self.assemble(sys, state);
         self.fresh = Some((state.u.clone(), residual.clone()));
         let base = shaking(sys, run).then(|| sys.base_force(sys.scenario.seismic.acceleration_after(state.time)));
         add_to(&mut residual, base.as_deref());
-        run.force_scale = scale(sys, &residual).max(scale(sys, &self.loads));
-        if sys.scenario.analysis.kind == AnalysisKind::Dynamic && self.newmark.uses_acceleration() && sys.n_eq() > 0 {
-            self.pattern.combine(sys, (0.0, &self.tangent), (1.0, &sys.mass_values), &mut self.values);
-            let mut rhs = gather(sys, &residual);
-            self.solver
-                .solve_once(self.pattern.pattern(sys), &self.values, &mut rhs)
-                .map_err(|f| solver_error(sys, 0, f))?;
-            scatter_into(sys, &rhs, &mut state.a);
+        residual
+    }
+
+    /// The acceleration a run starts from, M a₀ = F − F_int(x₀) + f_c(x₀) (`residual`: the
+    /// unbalanced force without the contacts), needed when β ≠ ½: the contacts' forces are part
+    /// of it — after an initial equilibrium they hold the blocks, and a₀ = g in their place
+    /// gave a trapezoidal step's blocks ½ g Δt of velocity from nowhere.
+    pub(super) fn start_acceleration(
+        &mut self,
+        sys: &System,
+        whole: &mut State,
+        mut residual: Vec<Vec3>,
+    ) -> Result<()> {
+        if sys.scenario.analysis.kind != AnalysisKind::Dynamic || !self.newmark.uses_acceleration() || sys.n_eq() == 0 {
+            return Ok(());
         }
+        if let Some(h) = whole.contact.as_ref() {
+            // The points as the first step will find them (their gaps at these positions).
+            let mut now = h.clone();
+            now.refresh(sys, &whole.motion);
+            now.add_start_forces(sys, &mut residual);
+        }
+        self.pattern.combine(sys, (0.0, &self.tangent), (1.0, &sys.mass_values), &mut self.values);
+        let mut rhs = gather(sys, &residual);
+        self.solver
+            .solve_once(self.pattern.pattern(sys), &self.values, &mut rhs)
+            .map_err(|f| solver_error(sys, 0, f))?;
+        scatter_into(sys, &rhs, &mut whole.motion.a);
         Ok(())
     }
 
