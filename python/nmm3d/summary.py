@@ -37,7 +37,7 @@ class EnergySummary:
     #: taken by the contact dashpots (``contact.damping_ratio``); 0 in summaries before them
     damping_dissipation: float = 0.0
     #: largest kinetic and strain energy held beyond what the loads and the start gave
-    #: (energy the contacts created) relative to the largest account; 0 in summaries before it
+    #: (energy from nowhere) relative to the largest account; 0 in summaries before it
     max_gain_ratio: float = 0.0
     #: when that largest gain occurred [s]
     max_gain_time: float = 0.0

@@ -170,7 +170,7 @@ pub struct EnergySummary {
     #[serde(default)]
     pub damping_dissipation: f64,
     /// Largest gain over the run — the kinetic and strain energy the blocks held beyond the
-    /// energy the loads and the start gave them, energy the contacts created — relative to the
+    /// energy the loads and the start gave them, energy from nowhere — relative to the
     /// largest account of the run (0 in summaries before it).
     #[serde(default)]
     pub max_gain_ratio: f64,
