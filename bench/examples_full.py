@@ -69,7 +69,7 @@ def row(name: str, r: dict) -> str:
         return f"| {name} | {r['status']} | | | | | | | | {r['wall']:.0f} | {cell(r.get('message', ''))} |"
     cuts = ", ".join(f"{v} {k}" for k, v in sorted(r["cuts"].items())) or "0"
     balance = "–" if r["balance"] is None else f"{r['balance']:.1e}"
-    gain = "–" if r["gain"] is None else f"{max(r['gain'], 0.0):.1e}"
+    gain = "–" if r["gain"] is None else f"{r['gain']:.1e}"
     if r["warning"]:
         balance += " (warning)"
     return (f"| {name} | {r['status']} | {r['time']:g} | {r['steps']} | {cuts} | {1e3 * r['overlap']:.3g} | "
