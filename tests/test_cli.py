@@ -260,11 +260,13 @@ def test_diagnostics_are_written_per_step(tmp_path):
     assert nmm3d("run", str(write(tmp_path, GOOD)), "--out", str(out)).returncode == 0
     lines = (out / "diagnostics.csv").read_text().splitlines()
     # The contract's columns first and in order; the energy accounts added after them, then
-    # the contact points and the deepest overlap, then the contact dashpots' dissipation.
+    # the contact points and the deepest overlap, then the contact dashpots' dissipation, then
+    # the open–close iterations and the factorisations of each step.
     header = lines[0].split(",")
     assert header[:6] == ["time", "step", "dt", "cuts", "displacement_ratio", "unbalanced_force_ratio"]
     assert header[6:14] == ["kinetic_energy", "elastic_energy", "external_work", "contact_energy", "friction_dissipation", "numerical_dissipation", "energy_error", "contact_event_dissipation"]
-    assert header[14:] == ["contact_points", "max_penetration", "damping_dissipation"]
+    assert header[14:] == ["contact_points", "max_penetration", "damping_dissipation", "open_close_iterations",
+                           "factorizations"]
     assert len(lines) == json.loads((out / "summary.json").read_text())["steps"] + 1
 
 

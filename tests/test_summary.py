@@ -83,3 +83,21 @@ def test_a_key_the_dataclasses_do_not_know_is_named(tmp_path):
     del data["surprise"], data["steps"]
     with pytest.raises(ValueError, match="steps"):
         nmm3d.RunSummary.from_dict(data)
+
+
+def test_each_steps_iterations_and_factorisations_add_up_to_the_summarys(tmp_path):
+    """`diagnostics.csv` says where a run's solves went, step by step: its open–close iterations
+    and factorisations add up to the summary's counts (no initial equilibrium here, whose
+    factorisations only the summary holds), and a step cut before it was taken factorised more
+    often than its accepted trial iterated."""
+    from nmm3d.result import read_columns
+
+    result = nmm3d.load(EXAMPLES / "goodman_tunnel.toml", ["analysis.duration=0.05"]).run(out=tmp_path / "gt")
+    r, d = result.run_summary, read_columns(result.directory / "diagnostics.csv")
+    assert r.initial_equilibrium is None
+    assert sum(d["open_close_iterations"]) == r.open_close_iterations > r.steps
+    assert sum(d["factorizations"]) == r.factorizations > 0
+    assert min(d["open_close_iterations"]) >= 1 and max(d["factorizations"]) > 1
+    for cuts, iterations, factorizations in zip(d["cuts"], d["open_close_iterations"], d["factorizations"]):
+        if cuts > 0:
+            assert factorizations > iterations

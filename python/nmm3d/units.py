@@ -5,7 +5,8 @@ from __future__ import annotations
 _QUANTITY_UNITS = {"displacement": "m", "velocity": "m/s", "rotation": "rad", "volume": "m³", "stress": "Pa"}
 _DIAGNOSTIC_UNITS = {"time": "s", "dt": "s", "max_penetration": "m", "kinetic_energy": "J",
                      "elastic_energy": "J", "external_work": "J", "contact_energy": "J",
-                     "friction_dissipation": "J", "numerical_dissipation": "J", "energy_error": "J"}
+                     "friction_dissipation": "J", "numerical_dissipation": "J", "energy_error": "J",
+                     "contact_event_dissipation": "J", "damping_dissipation": "J"}
 
 
 def unit(column: str) -> str:

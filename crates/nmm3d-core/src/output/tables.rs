@@ -74,16 +74,17 @@ impl History {
 /// Write `diagnostics.csv`: per accepted step the time step, the rejected trials, the
 /// displacement ratio, the unbalanced force ratio at the start of the step, and the energy
 /// accounts after it [J] (`crate::time::energy`; zero in static runs), then the contact points,
-/// the deepest overlap at its end [m] and the contact dashpots' dissipation [J] (last: added).
+/// the deepest overlap at its end [m], the contact dashpots' dissipation [J], then the accepted
+/// trial's open–close iterations and the step's factorisations (added in that order).
 pub fn write_diagnostics(dir: &Path, rows: &[(f64, u64, crate::time::StepReport)]) -> Result<()> {
     let mut s = String::from(
-        "time,step,dt,cuts,displacement_ratio,unbalanced_force_ratio,kinetic_energy,elastic_energy,external_work,contact_energy,friction_dissipation,numerical_dissipation,energy_error,contact_event_dissipation,contact_points,max_penetration,damping_dissipation\n",
+        "time,step,dt,cuts,displacement_ratio,unbalanced_force_ratio,kinetic_energy,elastic_energy,external_work,contact_energy,friction_dissipation,numerical_dissipation,energy_error,contact_event_dissipation,contact_points,max_penetration,damping_dissipation,open_close_iterations,factorizations\n",
     );
     for (t, step, r) in rows {
         let e = &r.energy;
         let _ = writeln!(
             s,
-            "{t},{step},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{t},{step},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             r.dt,
             r.cuts,
             r.ratio,
@@ -98,7 +99,9 @@ pub fn write_diagnostics(dir: &Path, rows: &[(f64, u64, crate::time::StepReport)
             e.contact_events,
             r.contacts,
             r.max_penetration,
-            e.damping
+            e.damping,
+            r.open_close,
+            r.factorizations
         );
     }
     atomic::write(&dir.join("diagnostics.csv"), s.as_bytes())

@@ -161,7 +161,9 @@ pub(super) fn advance(
             });
         }
         let cap = (end - whole.motion.time).max(0.0);
-        let report = stepper.step(sys, whole, cap)?;
+        let factorized = stepper.solve_counts().factorizations;
+        let mut report = stepper.step(sys, whole, cap)?;
+        report.factorizations = stepper.solve_counts().factorizations - factorized;
         let state = &whole.motion;
         rec.cut_log.append(&mut stepper.cuts);
         rec.last_unbalanced = report.unbalanced;

@@ -99,7 +99,17 @@ impl Stepper {
             h.travel.add(sys, d);
         }
         let (ratio, unbalanced, open_close, cuts) = (a.ratio, start.unbalanced, a.iterations, a.cuts);
-        Ok(Finish::Taken(StepReport { dt, cuts, ratio, unbalanced, contacts, open_close, max_penetration, energy }))
+        Ok(Finish::Taken(StepReport {
+            dt,
+            cuts,
+            ratio,
+            unbalanced,
+            contacts,
+            open_close,
+            max_penetration,
+            energy,
+            factorizations: 0,
+        }))
     }
 
     /// The energy-gain check of a taken step (`gain`): if its contact events gave the blocks

@@ -22,6 +22,10 @@ pub struct StepReport {
     pub unbalanced: f64,
     /// Energy accounts after the step (dynamic runs; zero otherwise).
     pub energy: Energy,
+    /// Numeric factorisations the step made: its rejected trials, every open–close iteration
+    /// and the equilibrium iterations included (set by the run's loop).
+    #[serde(default)]
+    pub factorizations: u64,
 }
 
 /// Seconds spent per phase.
