@@ -7,12 +7,13 @@ docs/verification.md, produced by bench/verification.py).
 from __future__ import annotations
 
 import math
+import tomllib
 
 import numpy as np
 import pytest
 
 import nmm3d
-from conftest import EXAMPLES
+from conftest import EXAMPLES, ROOT
 from nmm3d import analytic, roof_wedge
 from nmm3d.wedge import wedge
 
@@ -62,6 +63,14 @@ CASES = {
 
 def test_every_example_is_covered():
     assert sorted(p.name for p in EXAMPLES.glob("*.toml")) == sorted(CASES)
+
+
+@pytest.mark.parametrize("path", sorted([*EXAMPLES.glob("*.toml"), *(ROOT / "bench" / "peers").glob("*.toml")]),
+                         ids=lambda p: p.name)
+def test_scenario_files_are_toml_1_0(path):
+    # nmm3d's parser also takes TOML 1.1 (an inline table over several lines); Python's
+    # tomllib, editors and other tools a user copies an example into take 1.0 only.
+    tomllib.loads(path.read_text())
 
 
 @pytest.fixture(scope="module")
