@@ -8,7 +8,7 @@ use super::bsr::Bsr;
 /// The aggregate of every node, and how many aggregates there are.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Aggregates {
-    /// Aggregate of each node.
+    /// Aggregate of each node ([`ISOLATED`]: none).
     pub of: Vec<u32>,
     /// Number of aggregates.
     pub count: usize,
@@ -18,12 +18,20 @@ impl Aggregates {
     /// The nodes of each aggregate, in increasing order.
     pub fn members(&self) -> Vec<Vec<u32>> {
         let mut m = vec![Vec::new(); self.count];
-        for (node, &a) in self.of.iter().enumerate() {
+        for (node, &a) in self.of.iter().enumerate().filter(|(_, &a)| a != ISOLATED) {
             m[a as usize].push(node as u32);
         }
         m
     }
 }
+
+/// The aggregate of a node coupled to no other: it is left out of the coarser levels, as in
+/// smoothed aggregation (Vaněk, Mandel & Brezina 1996; pyamg): its equations are the smoother's
+/// alone. Made its own aggregate, it would keep its k modes on every coarser level — in a pile
+/// of blocks at rest, whose columns touch each other with no force, the second level's nodes
+/// (one per column) were nearly all such, coarsening stopped at 5 600 of 6 000 equations and
+/// their dense factorisation took two seconds per system (against 0.3 s for the pile's own).
+pub const ISOLATED: u32 = u32::MAX - 1;
 
 /// Strong neighbours of each node (a block row of `a`; itself excluded): node j is strongly
 /// coupled to node i when ‖A_ij‖_F ≥ θ √(‖A_ii‖_F ‖A_jj‖_F) (the block form of the symmetric
@@ -63,7 +71,9 @@ pub fn aggregate(graph: &[Vec<u32>]) -> Aggregates {
     let mut of = vec![FREE; graph.len()];
     let mut count = 0u32;
     for i in 0..graph.len() {
-        if of[i] == FREE && graph[i].iter().all(|&j| of[j as usize] == FREE) {
+        if graph[i].is_empty() {
+            of[i] = ISOLATED;
+        } else if of[i] == FREE && graph[i].iter().all(|&j| of[j as usize] == FREE) {
             of[i] = count;
             graph[i].iter().for_each(|&j| of[j as usize] = count);
             count += 1;
@@ -102,7 +112,7 @@ mod tests {
 
     #[test]
     fn every_node_is_in_one_aggregate_of_its_neighbourhood() {
-        for n in [1, 2, 5, 10, 31] {
+        for n in [2, 5, 10, 31] {
             let g = path(n);
             let agg = aggregate(&g);
             assert!(agg.of.iter().all(|&a| (a as usize) < agg.count), "n = {n}");
@@ -113,6 +123,18 @@ mod tests {
             }
         }
         assert_eq!(aggregate(&path(9)).count, 3);
+    }
+
+    #[test]
+    fn a_node_coupled_to_none_is_left_out() {
+        // A path of five, then two nodes coupled to nothing.
+        let mut g = path(5);
+        g.extend([Vec::new(), Vec::new()]);
+        let agg = aggregate(&g);
+        assert_eq!(&agg.of[5..], &[ISOLATED, ISOLATED]);
+        assert_eq!(agg.count, aggregate(&path(5)).count);
+        assert_eq!(agg.members().concat(), vec![0, 1, 2, 3, 4]);
+        assert_eq!(aggregate(&[Vec::new(), Vec::new()]).count, 0);
     }
 
     #[test]
@@ -128,6 +150,7 @@ mod tests {
         let a = Bsr::from_csr(&a, 2, 2);
         assert_eq!(strong_graph(&a, 0.0), vec![vec![1], vec![0]]);
         assert_eq!(strong_graph(&a, 0.01), vec![Vec::<u32>::new(), vec![]]);
-        assert_eq!(aggregate(&strong_graph(&a, 0.01)).count, 2);
+        // Coupled to nothing strongly, both are left to the smoother.
+        assert_eq!(aggregate(&strong_graph(&a, 0.01)), Aggregates { of: vec![ISOLATED; 2], count: 0 });
     }
 }

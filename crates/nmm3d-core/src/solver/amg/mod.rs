@@ -165,7 +165,7 @@ impl AmgSolver {
         b: &NearNull,
     ) -> Option<(Bsr<f64>, NearNull)> {
         let agg = aggregate::aggregate(&aggregate::strong_graph(a, self.params.strength));
-        if agg.count * b.k >= a.rows {
+        if agg.count == 0 || agg.count * b.k >= a.rows {
             return None;
         }
         let (t, coarse_b) = prolong::tentative(&agg, a.br, b);

@@ -3,7 +3,7 @@
 //! exactly on each aggregate — T Bc = B, T's columns orthonormal per aggregate — and one damped
 //! Jacobi step smooths it: P = (I − ω D⁻¹ A) T with ω = 4 / (3 ρ(D⁻¹A)).
 
-use super::aggregate::Aggregates;
+use super::aggregate::{Aggregates, ISOLATED};
 use super::bsr::Bsr;
 use super::csr::Csr;
 
@@ -73,9 +73,11 @@ pub fn tentative(agg: &Aggregates, block: usize, b: &NearNull) -> (Bsr<f64>, Nea
     let mut t = Csr { rows, cols: agg.count * k, ptr: Vec::with_capacity(rows + 1), idx: Vec::new(), val: Vec::new() };
     t.ptr.push(0);
     for (e, q) in q_rows.iter().enumerate() {
-        let a = agg.of[e / block] as usize;
-        t.idx.extend((0..k).map(|c| (a * k + c) as u32));
-        t.val.extend_from_slice(&q[..k]);
+        // A node in no aggregate has no coarse modes: an empty row.
+        if let Some(a) = Some(agg.of[e / block]).filter(|&a| a != ISOLATED) {
+            t.idx.extend((0..k).map(|c| (a as usize * k + c) as u32));
+            t.val.extend_from_slice(&q[..k]);
+        }
         t.ptr.push(t.idx.len());
     }
     (Bsr::from_csr(&t, block, k), NearNull { k, values: coarse })
