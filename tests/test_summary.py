@@ -12,6 +12,7 @@ import pytest
 import nmm3d
 from conftest import EXAMPLES, ROOT
 from nmm3d import summary as typed
+from nmm3d.result import read_columns
 
 RUST = ROOT / "crates" / "nmm3d-core" / "src" / "output" / "summary.rs"
 
@@ -90,8 +91,6 @@ def test_each_steps_iterations_and_factorisations_add_up_to_the_summarys(tmp_pat
     and factorisations add up to the summary's counts (no initial equilibrium here, whose
     factorisations only the summary holds), and a step cut before it was taken factorised more
     often than its accepted trial iterated."""
-    from nmm3d.result import read_columns
-
     result = nmm3d.load(EXAMPLES / "goodman_tunnel.toml", ["analysis.duration=0.05"]).run(out=tmp_path / "gt")
     r, d = result.run_summary, read_columns(result.directory / "diagnostics.csv")
     assert r.initial_equilibrium is None

@@ -27,10 +27,9 @@ impl Aggregates {
 
 /// The aggregate of a node coupled to no other: it is left out of the coarser levels, as in
 /// smoothed aggregation (Vaněk, Mandel & Brezina 1996; pyamg): its equations are the smoother's
-/// alone. Made its own aggregate, it would keep its k modes on every coarser level — in a pile
-/// of blocks at rest, whose columns touch each other with no force, the second level's nodes
-/// (one per column) were nearly all such, coarsening stopped at 5 600 of 6 000 equations and
-/// their dense factorisation took two seconds per system (against 0.3 s for the pile's own).
+/// alone. Made its own aggregate, it would keep its k modes on every coarser level and stop the
+/// coarsening — a pile of blocks at rest, whose columns touch with no force, stalled so
+/// (`docs/theory/solver.md`).
 pub const ISOLATED: u32 = u32::MAX - 1;
 
 /// Strong neighbours of each node (a block row of `a`; itself excluded): node j is strongly

@@ -74,8 +74,9 @@ pub fn tentative(agg: &Aggregates, block: usize, b: &NearNull) -> (Bsr<f64>, Nea
     t.ptr.push(0);
     for (e, q) in q_rows.iter().enumerate() {
         // A node in no aggregate has no coarse modes: an empty row.
-        if let Some(a) = Some(agg.of[e / block]).filter(|&a| a != ISOLATED) {
-            t.idx.extend((0..k).map(|c| (a as usize * k + c) as u32));
+        let a = agg.of[e / block] as usize;
+        if a != ISOLATED as usize {
+            t.idx.extend((0..k).map(|c| (a * k + c) as u32));
             t.val.extend_from_slice(&q[..k]);
         }
         t.ptr.push(t.idx.len());
