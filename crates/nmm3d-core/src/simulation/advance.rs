@@ -12,7 +12,7 @@ use crate::error::{Error, Result};
 use crate::output::atomic;
 use crate::output::progress::{Progress, ProgressMode};
 use crate::output::summary::{RunSummary, Status};
-use crate::scenario::AnalysisKind;
+use crate::scenario::{AnalysisKind, InitialEquilibrium};
 use crate::system::System;
 use crate::time::cut;
 use crate::time::settle::Settled;
@@ -81,7 +81,7 @@ pub(super) fn start(
     saver: &mut Saver,
 ) -> Result<()> {
     stepper.initialize(sys, state)?;
-    if sys.scenario.analysis.initial_equilibrium {
+    if sys.scenario.analysis.initial_equilibrium != InitialEquilibrium::Off {
         saver.initial_equilibrium = Some(stepper.settle(sys, state)?);
     }
     rec.record(sys, state, true)

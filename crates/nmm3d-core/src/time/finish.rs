@@ -71,7 +71,7 @@ impl Stepper {
         let contact_work: f64 =
             d.iter().zip(&start.contact).zip(&contact_end).map(|((d, f0), f1)| 0.5 * d.dot(&(f0 + f1))).sum();
         run.contact_end = contact_end;
-        state.dt = step_control::next_dt(analysis, dt, a.ratio);
+        state.dt = step_control::next_dt(&step_control::controls(analysis, run.relaxing), dt, a.ratio);
         // M a₀: the scheme's acceleration at the start (the last step's end), except at the
         // first step, where the unbalanced force stands for it.
         let m_a0 = if run.energy.is_some() { &start.ma } else { &start.force };

@@ -23,7 +23,7 @@ pub const KEEP_CONTRACTION: f64 = 0.1;
 
 /// Whether the run's steps are Newton iterations of a static equilibrium without contacts.
 fn static_newton(sys: &System, run: &StepperState, contacts: bool) -> bool {
-    sys.scenario.analysis.kind == AnalysisKind::Static && !run.locked && !contacts
+    sys.scenario.analysis.kind == AnalysisKind::Static && !run.settling() && !contacts
 }
 
 impl Stepper {

@@ -24,7 +24,7 @@ impl Stepper {
     /// shaking base).
     pub(super) fn reach(sys: &System, (state, run): (&Motion, &StepperState), dt: f64) -> f64 {
         let a = &sys.scenario.analysis;
-        if !run.inertia || run.locked || a.kind == AnalysisKind::Static || sys.scenario.seismic.moves() {
+        if !run.inertia || run.settling() || a.kind == AnalysisKind::Static || sys.scenario.seismic.moves() {
             return f64::INFINITY;
         }
         let g = nmm3d_geom::Vec3::from(a.gravity).norm();

@@ -1,40 +1,61 @@
-//! The initial equilibrium: the static state under the initial loads with every contact locked,
-//! from which a run starts at t = 0.
+//! The initial equilibrium: the static state under the initial loads, with every contact
+//! locked or with the contacts free, from which a run starts at t = 0.
 
 use nmm3d_geom::Vec3;
 
 use super::state::State;
 use super::stepper::Stepper;
 use crate::error::Result;
+use crate::scenario::InitialEquilibrium;
 use crate::system::System;
 
 impl Stepper {
-    /// Static equilibrium under the initial loads with every contact locked — the stressed
-    /// state a run starts from (the usual first stage of a jointed-rock model). Velocities,
-    /// time and step count are restored afterwards.
-    ///
-    /// First by Newton iterations of the static equilibrium (no inertia: the locked springs
-    /// hold every touching block, so a few iterations suffice, however soft the joints). Where
-    /// that cannot work — a block held by nothing makes the matrix singular, an iteration
-    /// moves too far, or 50 iterations do not converge — it goes on as before, by implicit steps whose velocity is reset each
-    /// step: the mass term regularises, at the cost of many steps for soft, rocking modes. At
-    /// most `analysis.max_settle_steps` of those, and none once a cover has moved by a cover
-    /// cell: a block that nothing holds (a block in the air) would otherwise sink by ½ g Δt² a
-    /// step until `max_steps`.
+    /// The static equilibrium under the initial loads — the stressed state a run starts from
+    /// (the usual first stage of a jointed-rock model): with every contact locked, or with the
+    /// contacts free (`analysis.initial_equilibrium`). Velocities, time and step count are
+    /// restored afterwards.
     pub fn settle(&mut self, sys: &System, state: &mut State) -> Result<Settled> {
         let m = &mut state.motion;
         let (v, a, dt) = (m.v.clone(), m.a.clone(), m.dt);
         m.v.iter_mut().chain(m.a.iter_mut()).for_each(|x| *x = Vec3::zeros());
+        let (steps, unbalanced, u_last) = match sys.scenario.analysis.initial_equilibrium {
+            InitialEquilibrium::Frictional => self.relax(sys, state)?,
+            _ => self.settle_locked(sys, state, dt)?,
+        };
+        if let Some(c) = state.contact.as_mut() {
+            c.release();
+        }
+        let m = &mut state.motion;
+        (m.v, m.a, m.dt, m.time, m.step) = (v, a, dt, 0.0, 0);
+        let mut out = Settled { steps, unbalanced, moving: Vec::new() };
+        if !out.converged(sys) {
+            let last_move: Vec<f64> = m.u.iter().zip(&u_last).map(|(u, u0)| (u - u0).norm()).collect();
+            out.moving = still_moving(sys, &last_move);
+        }
+        // The run starts from the acceleration of the settled state, whose contacts hold the
+        // blocks (not from the one before it, where nothing held them yet).
+        let residual = self.initial_residual(sys, state);
+        self.start_acceleration(sys, state, residual)?;
+        Ok(out)
+    }
+
+    /// The locked equilibrium: first by Newton iterations of the static equilibrium (no
+    /// inertia: the locked springs hold every touching block, so a few iterations suffice,
+    /// however soft the joints). Where that cannot work — a block held by nothing makes the
+    /// matrix singular, an iteration moves too far, or `max_static_iterations` do not converge
+    /// — it goes on by implicit steps of `dt` whose velocity is reset each step: the mass term
+    /// regularises, at the cost of many steps for soft, rocking modes. Its steps, the
+    /// unbalanced force ratio reached, and where its last step started.
+    fn settle_locked(&mut self, sys: &System, state: &mut State, dt: f64) -> Result<(u64, f64, Vec<Vec3>)> {
         lock(state, true);
         let analysis = &sys.scenario.analysis;
         let (mut steps, mut damped, mut unbalanced) = (0, 0, f64::INFINITY);
         let u_start = state.motion.u.clone();
         // Where the last step started (its motion names the blocks still moving).
         let mut u_last = u_start.clone();
-        // A settlement is elastic: a block that has sunk by a cover cell is held by nothing.
-        let sunk = |u: &[Vec3]| u.iter().zip(&u_start).any(|(u, u0)| (u - u0).norm() > sys.covers.mesh().size);
         state.stepper.inertia = false;
-        while steps < analysis.max_steps && damped < analysis.max_settle_steps && !sunk(&state.motion.u) {
+        while steps < analysis.max_steps && damped < analysis.max_settle_steps && !sunk(sys, &state.motion.u, &u_start)
+        {
             // A static iteration that fails is undone before the damped steps take over.
             let before = (!state.stepper.inertia).then(|| state.clone());
             let u0 = state.motion.u.clone();
@@ -63,22 +84,39 @@ impl Stepper {
         }
         state.stepper.inertia = true;
         lock(state, false);
-        if let Some(c) = state.contact.as_mut() {
-            c.release();
-        }
-        let m = &mut state.motion;
-        (m.v, m.a, m.dt, m.time, m.step) = (v, a, dt, 0.0, 0);
-        let mut out = Settled { steps, unbalanced, moving: Vec::new() };
-        if !out.converged(sys) {
-            let last_move: Vec<f64> = m.u.iter().zip(&u_last).map(|(u, u0)| (u - u0).norm()).collect();
-            out.moving = still_moving(sys, &last_move);
-        }
-        // The run starts from the acceleration of the settled state, whose contacts hold the
-        // blocks (not from the one before it, where nothing held them yet).
-        let residual = self.initial_residual(sys, state);
-        self.start_acceleration(sys, state, residual)?;
-        Ok(out)
+        Ok((steps, unbalanced, u_last))
     }
+
+    /// The frictional equilibrium: static steps (velocities reset, `run.relaxing`) of
+    /// `analysis.settle_dt` with the contacts free — opening, sliding at the Coulomb limit — as
+    /// a static analysis takes them, at most `max_settle_steps` and none once a cover has moved
+    /// by a cover cell (a block that slides that far is not held). No lock, so no tension or
+    /// over-cone shear for the release to let go, and the points a settlement closes are
+    /// detected as it goes. What [`Self::settle_locked`] returns.
+    fn relax(&mut self, sys: &System, state: &mut State) -> Result<(u64, f64, Vec<Vec3>)> {
+        let analysis = &sys.scenario.analysis;
+        let (mut steps, mut unbalanced) = (0, f64::INFINITY);
+        let u_start = state.motion.u.clone();
+        let mut u_last = u_start.clone();
+        (state.stepper.relaxing, state.motion.dt) = (true, analysis.settle_dt);
+        while steps < analysis.max_steps.min(analysis.max_settle_steps) && !sunk(sys, &state.motion.u, &u_start) {
+            let u0 = state.motion.u.clone();
+            let r = self.step(sys, state, f64::INFINITY);
+            let r = r.inspect_err(|_| state.stepper.relaxing = false)?;
+            (steps, unbalanced, u_last) = (steps + 1, r.unbalanced, u0);
+            if steps > 1 && unbalanced <= analysis.equilibrium_tolerance {
+                break;
+            }
+        }
+        state.stepper.relaxing = false;
+        Ok((steps, unbalanced, u_last))
+    }
+}
+
+/// A settlement is elastic: a block whose cover has moved by a cover cell since `u_start` is
+/// held by nothing.
+fn sunk(sys: &System, u: &[Vec3], u_start: &[Vec3]) -> bool {
+    u.iter().zip(u_start).any(|(u, u0)| (u - u0).norm() > sys.covers.mesh().size)
 }
 
 /// How the initial equilibrium ended.

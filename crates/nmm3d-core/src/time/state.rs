@@ -30,6 +30,10 @@ pub struct StepperState {
     pub force_scale: f64,
     /// Contacts locked (initial equilibrium): closed points stick whatever the force.
     pub locked: bool,
+    /// The frictional initial equilibrium's static steps: contacts free, velocities reset,
+    /// Δt from `analysis.settle_dt`.
+    #[serde(default)]
+    pub relaxing: bool,
     /// Steps carry the inertia term; without it a step is a Newton iteration of the static
     /// equilibrium (the initial equilibrium's first try).
     pub inertia: bool,
@@ -69,6 +73,13 @@ pub struct NewtonState {
     pub full: bool,
 }
 
+impl StepperState {
+    /// Inside an initial equilibrium (locked or frictional): static steps, no energy accounts.
+    pub fn settling(&self) -> bool {
+        self.locked || self.relaxing
+    }
+}
+
 fn never_detected() -> f64 {
     f64::MAX
 }
@@ -78,6 +89,7 @@ impl Default for StepperState {
         Self {
             force_scale: 0.0,
             locked: false,
+            relaxing: false,
             inertia: true,
             penetration_cuts: 0,
             penalty_raises: 0,

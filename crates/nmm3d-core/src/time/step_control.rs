@@ -8,7 +8,9 @@
 //! * accepted: the next Δt = min(dt, remaining time, Δt · min(max_dt_growth, target / r)), at
 //!   least `min_dt_ratio · dt`.
 
-use crate::scenario::Analysis;
+use std::borrow::Cow;
+
+use crate::scenario::{Analysis, AnalysisKind};
 
 /// What to do with a trial step.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -19,6 +21,15 @@ pub enum Verdict {
     Retry(f64),
     /// No acceptable step exists.
     Diverged,
+}
+
+/// The controls a step goes by: the scenario's, or in the frictional initial equilibrium's
+/// static steps (`relaxing`) those of a static analysis whose Δt is `settle_dt`.
+pub fn controls(a: &Analysis, relaxing: bool) -> Cow<'_, Analysis> {
+    if !relaxing {
+        return Cow::Borrowed(a);
+    }
+    Cow::Owned(Analysis { kind: AnalysisKind::Static, dt: a.settle_dt, ..a.clone() })
 }
 
 /// Judge a trial step of size `dt` that gave displacement ratio `r`.
@@ -84,5 +95,15 @@ mod tests {
         assert_eq!(judge_unsettled(&a, 1e-3), Verdict::Retry(1e-3 * 0.3));
         assert_eq!(judge_unsettled(&a, 2e-7), Verdict::Retry(a.min_dt_ratio * a.dt));
         assert_eq!(judge_unsettled(&a, 1e-7), Verdict::Diverged);
+    }
+
+    #[test]
+    fn the_frictional_settling_steps_by_settle_dt_as_a_static_analysis() {
+        let a = Analysis { dt: 1e-3, settle_dt: 0.5, ..Analysis::default() };
+        assert!(matches!(controls(&a, false), Cow::Borrowed(_)));
+        let c = controls(&a, true);
+        assert_eq!((c.kind, c.dt), (AnalysisKind::Static, 0.5));
+        assert_eq!(c.settle_tolerance(), a.static_open_close_tolerance);
+        assert_eq!(next_dt(&c, 0.45, 0.0), 0.5, "grows up to settle_dt, not the run's dt");
     }
 }

@@ -186,7 +186,7 @@ impl Stepper {
         // (springs loaded by the initial equilibrium or by overlapping input).
         let springs = contact.as_ref().map_or(0.0, ContactHistory::spring_energy);
         self.times.assembly += t.elapsed().as_secs_f64();
-        let analysis = &sys.scenario.analysis;
+        let analysis = step_control::controls(&sys.scenario.analysis, run.relaxing);
         let mut dt = state.dt.min(dt_cap);
         if shaking(sys, run) {
             // No step straddles a jump of the base acceleration; the one that starts at a jump
@@ -216,7 +216,7 @@ impl Stepper {
         let (mut cuts, mut trials, mut arrivals) = (0, 0, 0);
         let mut guard = GainGuard { tried: None, armed: true };
         let dynamic = dynamic(sys, run);
-        let push_budget = gain::push_budget(analysis, dynamic, run.energy.as_ref());
+        let push_budget = gain::push_budget(&analysis, dynamic, run.energy.as_ref());
         loop {
             let k = if run.inertia {
                 self.newmark.coefficients(dt)
@@ -246,7 +246,8 @@ impl Stepper {
                 }
                 None => &start.residual,
             };
-            let trial = Trial { residual: trial_residual, mv: &start.mv, ma: &start.ma, k, keep };
+            let tolerance = analysis.settle_tolerance();
+            let trial = Trial { residual: trial_residual, mv: &start.mv, ma: &start.ma, k, keep, tolerance };
             let (mut d, iterations, settled) = self.open_close(sys, (state, contact.as_mut()), &trial)?;
             super::held::pin(sys, &state.u, &mut d);
             let dmax = d.iter().map(|x| x.norm()).fold(0.0, f64::max);
@@ -280,9 +281,9 @@ impl Stepper {
                 continue;
             }
             let verdict = if settled && !too_deep {
-                step_control::judge(analysis, dt, ratio)
+                step_control::judge(&analysis, dt, ratio)
             } else {
-                step_control::judge_unsettled(analysis, dt)
+                step_control::judge_unsettled(&analysis, dt)
             };
             if too_deep && settled && matches!(verdict, Verdict::Retry(_)) {
                 run.penetration_cuts += 1;
@@ -314,7 +315,7 @@ impl Stepper {
     /// Add an accepted step to the energy accounts (dynamic runs outside the initial
     /// equilibrium) and return them.
     pub(super) fn account(&self, sys: &System, (state, run): (&Motion, &mut StepperState), s: &Increment) -> Energy {
-        if run.locked || sys.scenario.analysis.kind == AnalysisKind::Static {
+        if run.settling() || sys.scenario.analysis.kind == AnalysisKind::Static {
             return Energy::default();
         }
         account::add_step(sys, state, s, (&self.loads, &self.tangent), &mut run.energy)
@@ -323,7 +324,7 @@ impl Stepper {
     pub(super) fn accept(&self, sys: &System, (state, run): (&mut Motion, &StepperState), d: &[Vec3], dt: f64) {
         let k = self.newmark.coefficients(dt);
         let g = self.newmark.gamma;
-        let is_static = run.locked || sys.scenario.analysis.kind == AnalysisKind::Static;
+        let is_static = run.settling() || sys.scenario.analysis.kind == AnalysisKind::Static;
         for c in 0..d.len() {
             if !sys.dofs.moves(c) {
                 continue;
@@ -402,17 +403,18 @@ pub(super) struct Trial<'a> {
     pub(super) k: StepCoefficients,
     /// Solve with the matrix of the solver's factor, not the step's tangent (see `newton`).
     pub(super) keep: bool,
+    /// The open–close iteration's tolerance ([`crate::scenario::Analysis::settle_tolerance`]).
+    pub(super) tolerance: f64,
+}
+
+/// Whether a step follows motion in time: inertia on, outside the initial equilibrium, in a
+/// dynamic analysis (the dashpots, the energy-gain check and the end equilibrium act only then).
+pub(super) fn dynamic(sys: &System, run: &StepperState) -> bool {
+    run.inertia && !run.settling() && sys.scenario.analysis.kind != AnalysisKind::Static
 }
 
 /// Whether the base shakes now (not while the initial equilibrium settles: the shaking starts
-/// Whether a step follows motion in time: inertia on, outside the locked initial equilibrium,
-/// in a dynamic analysis (the dashpots, the energy-gain check and the end equilibrium act only
-/// then).
-pub(super) fn dynamic(sys: &System, run: &StepperState) -> bool {
-    run.inertia && !run.locked && sys.scenario.analysis.kind != AnalysisKind::Static
-}
-
 /// after it).
 pub(super) fn shaking(sys: &System, run: &StepperState) -> bool {
-    !run.locked && sys.scenario.seismic.moves()
+    !run.settling() && sys.scenario.seismic.moves()
 }

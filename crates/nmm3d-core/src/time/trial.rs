@@ -39,7 +39,7 @@ impl Stepper {
             // Settled when no point changes state, or when the changes move the contact forces
             // by less than the tolerance (points flipping at zero force or at the Coulomb limit
             // — side faces of neighbouring blocks — would otherwise cycle without end).
-            let tolerance = sys.scenario.analysis.settle_tolerance();
+            let tolerance = t.tolerance;
             if changed == 0 || (tolerance > 0.0 && mismatch <= tolerance) {
                 return Ok((d, it, true));
             }
@@ -67,7 +67,7 @@ impl Stepper {
         (state, contact): (&Motion, Option<&ContactHistory>),
         trial: &Trial,
     ) -> Result<Vec<Vec3>> {
-        let Trial { residual, mv, ma, k, keep } = *trial;
+        let Trial { residual, mv, ma, k, keep, .. } = *trial;
         let t = Instant::now();
         match self.solver.source_values().filter(|v| keep && v.len() == self.values.len()) {
             Some(kept) => self.values.copy_from_slice(kept),

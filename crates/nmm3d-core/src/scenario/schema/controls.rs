@@ -109,10 +109,15 @@ pub struct Analysis {
     /// Strain measure: "corotational" (small strain in each ME's rotated frame) or
     /// "green_lagrange" (St Venant–Kirchhoff for large strains).
     pub strain_measure: StrainMeasure,
-    /// Before the run, solve the static equilibrium under the initial loads with every contact
-    /// locked (no sliding, no opening), then start from that state with the given velocities
-    /// at t = 0 (addition).
-    pub initial_equilibrium: bool,
+    /// Before the run, find the static equilibrium under the initial loads and start from it
+    /// with the given velocities at t = 0: `true` / "locked" with every contact locked (no
+    /// sliding, no opening), "frictional" with the contacts free (Coulomb friction, opening) by
+    /// static steps of `settle_dt`; `false`: none (addition).
+    pub initial_equilibrium: InitialEquilibrium,
+    /// Pseudo-time step of the frictional initial equilibrium's static steps [s]: it only
+    /// regularises (the mass term M/(β Δt²) holds what the joints do not yet), so a larger one
+    /// settles soft joints in fewer steps (addition).
+    pub settle_dt: f64,
     /// Wall-clock seconds between checkpoints written during a run (`checkpoint.json`, for
     /// `--resume`); one is always written when a run completes or is interrupted; 0 = only
     /// then [s] (addition).
@@ -233,7 +238,8 @@ impl Default for Analysis {
             step_equilibrium_iterations: 4,
             step_equilibrium_tolerance: 1e-4,
             step_equilibrium_stall: 1e-2,
-            initial_equilibrium: false,
+            initial_equilibrium: InitialEquilibrium::Off,
+            settle_dt: 1.0,
             checkpoint_interval: 600.0,
             max_static_iterations: 50,
             max_settle_steps: 5000,
@@ -244,6 +250,51 @@ impl Default for Analysis {
             factor_reuse_closeness: 1e-6,
             max_memory: 0.0,
             static_travel_limit: 0.0,
+        }
+    }
+}
+
+/// How the initial equilibrium treats the contacts (`analysis.initial_equilibrium`: a boolean as
+/// in v1, or the name of the method).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(try_from = "EquilibriumRepr", into = "EquilibriumRepr")]
+pub enum InitialEquilibrium {
+    /// None: the run starts from the input.
+    #[default]
+    Off,
+    /// Every contact locked: Newton iterations, then damped steps (`true`).
+    Locked,
+    /// The contacts free, with friction: static steps of `settle_dt` (velocities reset).
+    Frictional,
+}
+
+/// What the scenario file holds for [`InitialEquilibrium`].
+#[derive(Serialize, Deserialize)]
+#[serde(untagged)]
+enum EquilibriumRepr {
+    Flag(bool),
+    Name(String),
+}
+
+impl TryFrom<EquilibriumRepr> for InitialEquilibrium {
+    type Error = String;
+    fn try_from(r: EquilibriumRepr) -> Result<Self, String> {
+        match r {
+            EquilibriumRepr::Flag(false) => Ok(Self::Off),
+            EquilibriumRepr::Flag(true) => Ok(Self::Locked),
+            EquilibriumRepr::Name(n) if n == "locked" => Ok(Self::Locked),
+            EquilibriumRepr::Name(n) if n == "frictional" => Ok(Self::Frictional),
+            EquilibriumRepr::Name(n) => Err(format!("'{n}' is not true, false, \"locked\" or \"frictional\"")),
+        }
+    }
+}
+
+impl From<InitialEquilibrium> for EquilibriumRepr {
+    fn from(e: InitialEquilibrium) -> Self {
+        match e {
+            InitialEquilibrium::Off => Self::Flag(false),
+            InitialEquilibrium::Locked => Self::Flag(true),
+            InitialEquilibrium::Frictional => Self::Name("frictional".into()),
         }
     }
 }
@@ -339,4 +390,26 @@ pub enum BoxSide {
     /// z = max (the top).
     #[serde(rename = "+z")]
     MaxZ,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(v: &str) -> Result<InitialEquilibrium, String> {
+        let t: toml::Table = toml::from_str(&format!("x = {v}")).unwrap();
+        t["x"].clone().try_into().map_err(|e: toml::de::Error| e.to_string())
+    }
+
+    #[test]
+    fn initial_equilibrium_reads_v1_booleans_and_method_names_and_writes_them_back() {
+        assert_eq!(parse("false"), Ok(InitialEquilibrium::Off));
+        assert_eq!(parse("true"), Ok(InitialEquilibrium::Locked));
+        assert_eq!(parse("\"locked\""), Ok(InitialEquilibrium::Locked));
+        assert_eq!(parse("\"frictional\""), Ok(InitialEquilibrium::Frictional));
+        assert!(parse("\"damped\"").unwrap_err().contains("\"frictional\""));
+        for e in [InitialEquilibrium::Off, InitialEquilibrium::Locked, InitialEquilibrium::Frictional] {
+            assert_eq!(toml::Value::try_from(e).unwrap().try_into::<InitialEquilibrium>().unwrap(), e);
+        }
+    }
 }

@@ -60,6 +60,9 @@ pub(super) fn analysis(c: &mut Checker, a: &Analysis) {
     if !(a.static_travel_limit >= 0.0 && a.static_travel_limit.is_finite()) {
         c.fail("analysis.static_travel_limit", "must be a finite length ≥ 0 (0: off)");
     }
+    if !(a.settle_dt > 0.0 && a.settle_dt.is_finite()) {
+        c.fail("analysis.settle_dt", "must be a finite time > 0");
+    }
     if a.max_open_close == 0 {
         c.fail("analysis.max_open_close", "must be at least 1");
     }
