@@ -135,9 +135,10 @@ pub fn read(out: &Path, scenario: &Scenario, label: &str) -> Result<Checkpoint> 
 /// Move a version-1 checkpoint's run state into place: version 1 kept the motion alone in
 /// `state` and the contact points and counters in `stepper`.
 pub fn upgrade_v1(v: &mut Value) {
-    const COUNTERS: [&str; 10] = [
+    const COUNTERS: [&str; 11] = [
         "force_scale",
         "locked",
+        "relaxing",
         "inertia",
         "penetration_cuts",
         "penalty_raises",
