@@ -186,3 +186,26 @@ fn a_changed_scenario_does_not_resume() {
         other => panic!("expected an input error, got {other:?}"),
     }
 }
+
+/// A checkpoint written before a key existed (here `analysis.settle_dt`) resumes under a
+/// scenario that leaves the key at its default, and not under one that sets it otherwise.
+#[test]
+fn a_checkpoint_without_a_later_key_resumes_at_its_default() {
+    let text = common::with(&common::example("incline.toml"), "duration = 1.0", "duration = 0.05");
+    let dir = out_dir("checkpoint_older_key");
+    let _ = run(scenario(&text), "<test>", &RunOptions { out: dir.clone(), ..Default::default() }).unwrap();
+    let mut older: serde_json::Value = serde_json::from_slice(&read(&dir, checkpoint::FILE)).unwrap();
+    let analysis = older["scenario"]["analysis"].as_object_mut().unwrap();
+    assert!(analysis.remove("settle_dt").is_some(), "the checkpoint records the key");
+    std::fs::write(dir.join(checkpoint::FILE), serde_json::to_vec(&older).unwrap()).unwrap();
+    let set = common::with(&text, "duration = 0.05", "duration = 0.06\nsettle_dt = 0.5");
+    match run(scenario(&set), "<test>", &RunOptions { out: dir.clone(), resume: true, ..Default::default() }) {
+        Err(Error::Scenario { problems, .. }) => {
+            assert!(problems[0].reason.contains("analysis.settle_dt"), "{}", problems[0].reason)
+        }
+        other => panic!("expected an input error, got {other:?}"),
+    }
+    let longer = common::with(&text, "duration = 0.05", "duration = 0.06");
+    let r = run(scenario(&longer), "<test>", &RunOptions { out: dir, resume: true, ..Default::default() });
+    assert!(r.unwrap().completed);
+}
