@@ -56,5 +56,23 @@ def test_a_wedge_below_its_critical_angle_is_named_and_the_settling_is_bounded(t
     assert ie is not None and not ie.converged
     assert ie.steps < 5000, ie.steps
     assert "block 1 of body 'wedge'" in ie.warning, ie.warning
+    assert "settle_dt" not in ie.warning, "a block that is not held is no matter of the step"
     moved = np.linalg.norm([result.history[f"wedge.displacement.{c}"][0] for c in "xyz"])
     assert moved >= 0.5 * data["cover"]["size"], f"stopped after {moved} m"
+
+
+def soft_tunnel(method: str, max_settle_steps: int) -> dict:
+    data = nmm3d.load(EXAMPLES / "tunnel_key_blocks.toml", ["joint.joint.normal_stiffness=1e6"]).to_dict()
+    data["analysis"].update(initial_equilibrium=method, duration=0.002, max_settle_steps=max_settle_steps)
+    data.pop("expect", None)
+    return data
+
+
+def test_a_settling_that_runs_out_of_steps_says_what_to_try(tmp_path):
+    # 1 MPa/m joints: the frictional static steps swing at the default settle_dt (contact.md),
+    # the lock does not converge; each warning names the other remedy.
+    for method, remedy in [("frictional", "analysis.settle_dt"), (True, 'initial_equilibrium = "frictional"')]:
+        result = run(soft_tunnel(method, 8), tmp_path / str(method))
+        ie = result.run_summary.initial_equilibrium
+        assert ie is not None and not ie.converged and ie.steps >= 8, ie
+        assert remedy in ie.warning, ie.warning

@@ -46,6 +46,10 @@ pub struct Checkpoint {
     /// Blocks still moving when the initial equilibrium stopped unconverged.
     #[serde(default)]
     pub initial_moving: Vec<usize>,
+    /// The initial equilibrium stopped unconverged at its step limit (not because a block
+    /// moved by a cover cell).
+    #[serde(default)]
+    pub initial_exhausted: bool,
 }
 
 /// What the recorder has gathered.

@@ -110,6 +110,7 @@ impl Saver {
             record: rec.snapshot(),
             initial_equilibrium: self.initial_equilibrium.as_ref().map(|s| (s.steps, s.unbalanced)),
             initial_moving: self.initial_equilibrium.as_ref().map(|s| s.moving.clone()).unwrap_or_default(),
+            initial_exhausted: self.initial_equilibrium.as_ref().is_some_and(|s| s.exhausted),
         };
         self.last = Instant::now();
         checkpoint::write(&self.out, &c)

@@ -46,6 +46,7 @@ pub fn run(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOutc
                 steps,
                 unbalanced,
                 moving: c.initial_moving.clone(),
+                exhausted: c.initial_exhausted,
             });
             (c.state, Stepper::resume(&sys, c.stepper)?)
         }

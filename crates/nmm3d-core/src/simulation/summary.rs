@@ -115,15 +115,30 @@ fn initial_equilibrium(sys: &System, s: &Settled) -> InitialEquilibrium {
         format!(
             "initial equilibrium not reached after {} steps (unbalanced force ratio {:.2e} > \
              analysis.equilibrium_tolerance {:.1e}); still moving at its last step, held by nothing or \
-             hardly: {}{}; the run starts from there",
+             hardly: {}{}; the run starts from there{}",
             s.steps,
             s.unbalanced,
             sys.scenario.analysis.equilibrium_tolerance,
             if names.is_empty() { "none".into() } else { names.join(", ") },
             if more > 0 { format!(" and {more} more") } else { String::new() },
+            if s.exhausted { hint(sys.scenario.analysis.initial_equilibrium) } else { "" },
         )
     });
     InitialEquilibrium { steps: s.steps, unbalanced_force_ratio: s.unbalanced, converged, warning }
+}
+
+/// What to try when an initial equilibrium ran out of steps (`docs/theory/contact.md`,
+/// *Initial equilibrium*).
+fn hint(method: crate::scenario::InitialEquilibrium) -> &'static str {
+    match method {
+        crate::scenario::InitialEquilibrium::Frictional => {
+            " (on soft joints a smaller analysis.settle_dt, 0.01 s at 1 MPa/m, lets the static steps settle)"
+        }
+        _ => {
+            " (on joints of a given stiffness, analysis.initial_equilibrium = \"frictional\" lets them close as \
+             the rock settles)"
+        }
+    }
 }
 
 /// The energy accounts at the end [J], the largest balance error and the largest gain

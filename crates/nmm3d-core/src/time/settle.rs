@@ -16,7 +16,7 @@ impl Stepper {
     /// restored afterwards.
     pub fn settle(&mut self, sys: &System, state: &mut State) -> Result<Settled> {
         let m = &mut state.motion;
-        let (v, a, dt) = (m.v.clone(), m.a.clone(), m.dt);
+        let (v, a, dt, u_start) = (m.v.clone(), m.a.clone(), m.dt, m.u.clone());
         m.v.iter_mut().chain(m.a.iter_mut()).for_each(|x| *x = Vec3::zeros());
         let (steps, unbalanced, u_last) = match sys.scenario.analysis.initial_equilibrium {
             InitialEquilibrium::Frictional => self.relax(sys, state)?,
@@ -27,8 +27,9 @@ impl Stepper {
         }
         let m = &mut state.motion;
         (m.v, m.a, m.dt, m.time, m.step) = (v, a, dt, 0.0, 0);
-        let mut out = Settled { steps, unbalanced, moving: Vec::new() };
+        let mut out = Settled { steps, unbalanced, moving: Vec::new(), exhausted: false };
         if !out.converged(sys) {
+            out.exhausted = !sunk(sys, &m.u, &u_start);
             let last_move: Vec<f64> = m.u.iter().zip(&u_last).map(|(u, u0)| (u - u0).norm()).collect();
             out.moving = still_moving(sys, &last_move);
         }
@@ -129,6 +130,9 @@ pub struct Settled {
     /// When it did not converge: the blocks that moved most in its last step (at least a
     /// tenth of the largest motion) — those nothing holds, or hardly.
     pub moving: Vec<usize>,
+    /// When it did not converge: whether it ran out of steps (`max_settle_steps`,
+    /// `max_steps`) rather than stopping at a block that moved by a cover cell.
+    pub exhausted: bool,
 }
 
 impl Settled {
