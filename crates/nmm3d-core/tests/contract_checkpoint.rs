@@ -209,3 +209,19 @@ fn a_checkpoint_without_a_later_key_resumes_at_its_default() {
     let r = run(scenario(&longer), "<test>", &RunOptions { out: dir, resume: true, ..Default::default() });
     assert!(r.unwrap().completed);
 }
+
+/// `--resume` reads a checkpoint's scenario back to fill the keys it lacks; that must change
+/// nothing else: every example's scenario reads back as it was recorded.
+#[test]
+fn every_example_reads_back_as_recorded() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+    let mut names: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
+    names.retain(|n| n.to_string_lossy().ends_with(".toml"));
+    assert!(names.len() >= 30, "{} examples", names.len());
+    for name in names {
+        let s = scenario(&common::example(&name.to_string_lossy()));
+        let back: nmm3d_core::scenario::Scenario = serde_json::from_value(serde_json::to_value(&s).unwrap())
+            .unwrap_or_else(|e| panic!("{name:?} does not read back: {e}"));
+        assert_eq!(checkpoint::comparable(&back), checkpoint::comparable(&s), "{name:?}");
+    }
+}
