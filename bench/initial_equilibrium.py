@@ -9,8 +9,10 @@ seconds: the settling's steps and whether it converged, the roof key block's set
 release and its motion after it, the largest kinetic energy after the release (a start at rest
 has none), wall time. The locked settling of joints of 10⁷ Pa/m is bounded by
 `max_settle_steps = 500` here (unbounded it ran 285–436 s, unconverged); at 10⁶ Pa/m only the
-frictional one runs, with `settle_dt = 0.01`. Then the 3DEC sliding wedge (10 MPa/m joints)
-just above its critical angle from both starts. One case after the other in this process.
+frictional one runs, with `settle_dt = 0.01`. Then the thesis slope at φ = 45° on four joint
+stiffnesses (its locked settling bounded at 500 damped steps, its frictional one on 10⁶ Pa/m at
+2 000 steps of `settle_dt = 0.01`), and the 3DEC sliding wedge (10 MPa/m joints) just above its
+critical angle from both starts. One case after the other in this process.
 """
 
 from __future__ import annotations
@@ -37,6 +39,16 @@ TUNNEL_CASES = [
     ("10⁸ Pa/m", 1e8, [("locked", []), ("frictional", [])]),
     ("10⁷ Pa/m", 1e7, [("locked", ["analysis.max_settle_steps=500"]), ("frictional", [])]),
     ("10⁶ Pa/m", 1e6, [("frictional", ["analysis.settle_dt=0.01"])]),
+]
+SLOPE = ROOT / "examples" / "rock_slope.toml"
+SLOPE_FRICTION = 45.0
+# Settling bounded at 500 locked damped steps, and at 2 000 frictional steps on 10⁶ Pa/m.
+SLOPE_LOCKED = ("locked", ["analysis.max_settle_steps=500"])
+SLOPE_CASES = [
+    ("10⁹ Pa/m", 1e9, [SLOPE_LOCKED, ("frictional", [])]),
+    ("10⁸ Pa/m", 1e8, [SLOPE_LOCKED, ("frictional", [])]),
+    ("10⁷ Pa/m", 1e7, [SLOPE_LOCKED, ("frictional", [])]),
+    ("10⁶ Pa/m", 1e6, [SLOPE_LOCKED, ("frictional", ["analysis.settle_dt=0.01", "analysis.max_settle_steps=2000"])]),
 ]
 # The sliding wedge's critical friction angle (vector method) and the margins above it [°].
 WEDGE_CRITICAL, WEDGE_MARGINS = 33.357, [1.0, 0.1]
@@ -68,18 +80,33 @@ HEADER = ["| joints | initial equilibrium | load | steps | converged (unbalanced
           "|---|---|---:|---:|---|---:|---:|---:|---:|"]
 
 
+def stiffness_rows(path: Path, cases: list, joint: str, block: str, sets: list[str], tmp: Path) -> list[str]:
+    """One row per case and method: `path` with `sets`, `joint`'s normal stiffness set per case,
+    `block`'s displacement reported."""
+    out = []
+    for k, (label, kn, methods) in enumerate(cases):
+        stiffness = [] if kn is None else [f"joint.{joint}.normal_stiffness={kn:g}"]
+        for method, extra in methods:
+            load = os.getloadavg()[0]
+            s, h, d = run(path, [f"analysis.initial_equilibrium={method}", *sets, *stiffness, *extra],
+                          tmp / f"{path.stem}{k}{method}")
+            out.append(case_row(label, method, s, h, d, block, load))
+            print(out[-1], flush=True)
+    return out
+
+
 def tunnel(duration: float, tmp: Path) -> list[str]:
     out = [f"The thesis tunnel (`examples/tunnel_key_blocks.toml`), {duration:g} s after the release; "
            "the roof key block's displacement:", "", HEADER[0].format("roof key block"), HEADER[1]]
-    for k, (label, kn, methods) in enumerate(TUNNEL_CASES):
-        stiffness = [] if kn is None else [f"joint.joint.normal_stiffness={kn:g}"]
-        for method, extra in methods:
-            sets = [f"analysis.initial_equilibrium={method}", f"analysis.duration={duration}", *stiffness, *extra]
-            load = os.getloadavg()[0]
-            s, h, d = run(TUNNEL, sets, tmp / f"t{k}{method}")
-            out.append(case_row(label, method, s, h, d, "roof_key_block", load))
-            print(out[-1], flush=True)
-    return out
+    return out + stiffness_rows(TUNNEL, TUNNEL_CASES, "joint", "roof_key_block", [f"analysis.duration={duration}"], tmp)
+
+
+def slope(duration: float, tmp: Path) -> list[str]:
+    out = ["", f"The thesis slope at φ = {SLOPE_FRICTION:g}° (`examples/rock_slope.toml`, where every joint holds), "
+           f"{duration:g} s after the release; the toe block's displacement:", "",
+           HEADER[0].format("toe block"), HEADER[1]]
+    sets = [f"analysis.duration={duration}", f"joint.rock_joint.friction_angle={SLOPE_FRICTION}"]
+    return out + stiffness_rows(SLOPE, SLOPE_CASES, "rock_joint", "toe_block", sets, tmp)
 
 
 def wedge(tmp: Path) -> list[str]:
@@ -103,7 +130,7 @@ def main() -> None:
     args = ap.parse_args()
     load0 = os.getloadavg()[0]
     with tempfile.TemporaryDirectory() as d:
-        body = tunnel(args.duration, Path(d)) + wedge(Path(d))
+        body = tunnel(args.duration, Path(d)) + slope(args.duration, Path(d)) + wedge(Path(d))
     body += ["", "`locked`: `initial_equilibrium = true`; `frictional`: `\"frictional\"` "
              "([theory/contact.md](theory/contact.md), *Initial equilibrium*)."]
     write_page(PAGE, "Performance: the locked and the frictional initial equilibrium", "initial_equilibrium.py",
