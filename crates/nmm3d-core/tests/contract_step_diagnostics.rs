@@ -50,3 +50,21 @@ fn a_falling_cube_is_named_in_every_displacement_cut() {
     assert_eq!(steps, s.steps, "every accepted step in one bin");
     assert!(bins[..bins.len() - 1].iter().any(|b| b.steps > 0), "some steps below the requested Δt");
 }
+
+/// Dominos allowed two open–close iterations a step: their first trials are cut unsettled
+/// because a sliding point's friction still turns while no point changes state (until the
+/// turn named its point, such cuts had value 0 and no block). Every such cut names a block.
+#[test]
+fn an_unsettled_cut_names_the_blocks_even_when_only_friction_turned() {
+    let text = with(&example("dominos.toml"), "duration = 5.0", "duration = 0.00203\nmax_open_close = 2");
+    let out = run_ok(&text, "step_diagnostics_unsettled");
+    assert!(out.summary.step_cuts >= 2, "{:?}", out.summary);
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("step_diagnostics_unsettled");
+    let csv = std::fs::read_to_string(dir.join("cuts.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = csv.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    assert!(rows.iter().filter(|r| r[3] == "open_close_unsettled").count() >= 2, "{csv}");
+    for r in rows.iter().filter(|r| r[3] == "open_close_unsettled") {
+        assert!(r[4].parse::<f64>().unwrap() >= 1.0, "an unsettled iteration changed something: {r:?}");
+        assert!(!r[5].is_empty(), "no block named: {r:?}");
+    }
+}

@@ -10,7 +10,8 @@ use crate::system::System;
 
 impl ContactHistory {
     /// Update every point from the solved increments `d`: how many changed state (their block
-    /// pairs replace those in `changes`), and how far
+    /// pairs replace those in `changes`, with the pair of the sliding point whose friction
+    /// turned beyond `slip_turn`, which also counts as a change), and how far
     /// the forces the solve applied are from the forces of the updated states (summed over the
     /// points, relative to the sum of the updated forces).
     pub fn update_states(&mut self, sys: &System, d: &[Vec3], changes: &mut Vec<(usize, usize)>) -> (usize, f64) {
@@ -21,6 +22,8 @@ impl ContactHistory {
         changes.clear();
         // Largest change of a sliding point's friction force, and the largest friction limit.
         let (mut turned, mut largest) = (0.0f64, 0.0f64);
+        // The block pair of the point whose friction turned most (named by a cut it causes).
+        let mut turned_pair = None;
         let (mut mismatch, mut total) = (0.0f64, 0.0f64);
         for r in &mut self.records {
             // The spring this solve used, linearised about the last iterate.
@@ -58,7 +61,10 @@ impl ContactHistory {
                 // its real normal force at the next iteration.
                 r.limit = if closing { 0.0 } else { limit };
                 if let Some(u) = used {
-                    turned = turned.max((-limit * r.slip - u).norm());
+                    let turn = (-limit * r.slip - u).norm();
+                    if turn > turned {
+                        (turned, turned_pair) = (turn, Some(r.blocks));
+                    }
                 }
             }
             if new != r.state {
@@ -94,6 +100,7 @@ impl ContactHistory {
         // again, as for a change of state.
         if turned > self.params.slip_turn * largest {
             changed += 1;
+            changes.extend(turned_pair);
         }
         (changed, relative_mismatch(mismatch, total))
     }

@@ -54,7 +54,8 @@ pub struct Cut {
     /// Why.
     pub reason: CutReason,
     /// Its measure: the displacement ratio [-], the points that changed state in the last
-    /// open–close iteration [-], the deepest overlap [m], or the energy gained [J].
+    /// open–close iteration (and the sliding point whose friction turned beyond `slip_turn`,
+    /// if one did) [-], the deepest overlap [m], or the energy gained [J].
     pub value: f64,
     /// The blocks responsible, worst first (at most [`MAX_BLOCKS`]).
     pub blocks: Vec<usize>,
