@@ -98,20 +98,11 @@ pub fn comparable(s: &Scenario) -> Value {
 }
 
 /// A checkpoint's scenario as this version reads it: keys it does not name — added to nmm3d
-/// after it was written — at their defaults, as a scenario file that leaves them out gets them.
-/// As recorded if this version cannot read it (the comparison then names what differs).
-fn with_defaults(recorded: &Value, scenario: &Scenario) -> Value {
-    let mut v = recorded.clone();
-    // The keys a resumed run may change were left out of the record; the current values read.
-    let current = serde_json::to_value(scenario).unwrap_or(Value::Null);
-    if let (Some(a), Some(now)) = (v.get_mut("analysis").and_then(Value::as_object_mut), current.get("analysis")) {
-        for k in MAY_CHANGE {
-            if let Some(x) = now.get(k) {
-                a.insert(k.to_string(), x.clone());
-            }
-        }
-    }
-    serde_json::from_value::<Scenario>(v).map_or_else(|_| recorded.clone(), |s| comparable(&s))
+/// after it was written, and the ones a resumed run may change, which `comparable` drops again —
+/// at their defaults, as a scenario file that leaves them out gets them. As recorded if this
+/// version cannot read it (the comparison then names what differs).
+fn with_defaults(recorded: &Value) -> Value {
+    serde_json::from_value::<Scenario>(recorded.clone()).map_or_else(|_| recorded.clone(), |s| comparable(&s))
 }
 
 /// Write `checkpoint.json` in `out` (atomically).
@@ -147,7 +138,7 @@ pub fn read(out: &Path, scenario: &Scenario, label: &str) -> Result<Checkpoint> 
         }
     }
     let c: Checkpoint = serde_json::from_value(value).map_err(unreadable)?;
-    if let Some(key) = first_difference(&with_defaults(&c.scenario, scenario), &comparable(scenario), String::new()) {
+    if let Some(key) = first_difference(&with_defaults(&c.scenario), &comparable(scenario), String::new()) {
         return Err(problem(format!("the scenario differs from the checkpoint's at '{key}' (only analysis.duration, max_steps and checkpoint_interval may change)")));
     }
     Ok(c)

@@ -19,8 +19,8 @@ impl Stepper {
         let (v, a, dt, u_start) = (m.v.clone(), m.a.clone(), m.dt, m.u.clone());
         m.v.iter_mut().chain(m.a.iter_mut()).for_each(|x| *x = Vec3::zeros());
         let (steps, unbalanced, u_last) = match sys.scenario.analysis.initial_equilibrium {
-            InitialEquilibrium::Frictional => self.relax(sys, state)?,
-            _ => self.settle_locked(sys, state, dt)?,
+            InitialEquilibrium::Frictional => self.relax(sys, state, &u_start)?,
+            _ => self.settle_locked(sys, state, (dt, &u_start))?,
         };
         if let Some(c) = state.contact.as_mut() {
             c.release();
@@ -47,16 +47,19 @@ impl Stepper {
     /// — it goes on by implicit steps of `dt` whose velocity is reset each step: the mass term
     /// regularises, at the cost of many steps for soft, rocking modes. Its steps, the
     /// unbalanced force ratio reached, and where its last step started.
-    fn settle_locked(&mut self, sys: &System, state: &mut State, dt: f64) -> Result<(u64, f64, Vec<Vec3>)> {
+    fn settle_locked(
+        &mut self,
+        sys: &System,
+        state: &mut State,
+        (dt, u_start): (f64, &[Vec3]),
+    ) -> Result<(u64, f64, Vec<Vec3>)> {
         lock(state, true);
         let analysis = &sys.scenario.analysis;
         let (mut steps, mut damped, mut unbalanced) = (0, 0, f64::INFINITY);
-        let u_start = state.motion.u.clone();
         // Where the last step started (its motion names the blocks still moving).
-        let mut u_last = u_start.clone();
+        let mut u_last = u_start.to_vec();
         state.stepper.inertia = false;
-        while steps < analysis.max_steps && damped < analysis.max_settle_steps && !sunk(sys, &state.motion.u, &u_start)
-        {
+        while steps < analysis.max_steps && damped < analysis.max_settle_steps && !sunk(sys, &state.motion.u, u_start) {
             // A static iteration that fails is undone before the damped steps take over.
             let before = (!state.stepper.inertia).then(|| state.clone());
             let u0 = state.motion.u.clone();
@@ -94,13 +97,12 @@ impl Stepper {
     /// by a cover cell (a block that slides that far is not held). No lock, so no tension or
     /// over-cone shear for the release to let go, and the points a settlement closes are
     /// detected as it goes. What [`Self::settle_locked`] returns.
-    fn relax(&mut self, sys: &System, state: &mut State) -> Result<(u64, f64, Vec<Vec3>)> {
+    fn relax(&mut self, sys: &System, state: &mut State, u_start: &[Vec3]) -> Result<(u64, f64, Vec<Vec3>)> {
         let analysis = &sys.scenario.analysis;
         let (mut steps, mut unbalanced) = (0, f64::INFINITY);
-        let u_start = state.motion.u.clone();
-        let mut u_last = u_start.clone();
+        let mut u_last = u_start.to_vec();
         (state.stepper.relaxing, state.motion.dt) = (true, analysis.settle_dt);
-        while steps < analysis.max_steps.min(analysis.max_settle_steps) && !sunk(sys, &state.motion.u, &u_start) {
+        while steps < analysis.max_steps.min(analysis.max_settle_steps) && !sunk(sys, &state.motion.u, u_start) {
             let u0 = state.motion.u.clone();
             let r = self.step(sys, state, f64::INFINITY);
             let r = r.inspect_err(|_| state.stepper.relaxing = false)?;
