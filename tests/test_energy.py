@@ -119,6 +119,80 @@ def test_the_dominos_balance_closes(dominos):
     assert dominos.summary["equilibrium_iterations"] > 0
 
 
+
+def test_a_free_fall_meets_the_free_fall_bound_to_round_off(runs):
+    """free_fall.toml (1 m cube, g = 10 m/s², 1 s): the DDA scheme gives v² = 2 g Δz exactly,
+    the bound counts from the cube's top down to its lowest point, Δz + 1 m: bound² − v² = 2 g · 1 m."""
+    f = runs["free_fall.toml"].summary["free_fall"]
+    assert f["bound"] ** 2 - f["speed"] ** 2 == pytest.approx(2 * 10.0 * 1.0, rel=1e-9)
+    assert f["speed"] == pytest.approx(10.0, rel=1e-9) and f["time"] == pytest.approx(1.0)
+    assert f["body"] == "cube" and f["warning"] is None
+
+
+@pytest.mark.parametrize("name", ["incline.toml", "drop_test.toml", "dominos"])
+def test_no_block_is_faster_than_a_free_fall_from_the_top(runs, dominos, name):
+    """The issue's cases (its must-show: no block faster than free fall from its height)."""
+    result = dominos if name == "dominos" else runs[name]
+    f = result.summary["free_fall"]
+    assert 0.0 < f["max_ratio"] <= 1.0 and f["warning"] is None, f
+    assert f["speed"] == pytest.approx(f["max_ratio"] * f["bound"])
+
+
+STRIKE = """
+[analysis]
+duration = 0.06
+dt = 0.001
+gravity = [0.0, 0.0, -9.81]
+
+[cover]
+pattern = "hex8"
+size = 0.2
+
+[[material]]
+name = "rock"
+density = 2600.0
+young = 1.0e10
+poisson = 0.25
+
+[[joint]]
+name = "smooth"
+friction_angle = 0.0
+
+[[body]]
+name = "floor"
+material = "rock"
+fixed = true
+shape = { box = { min = [-1.0, -1.0, -0.2], max = [3.0, 1.0, 0.0] } }
+
+[[body]]
+name = "slab"
+material = "rock"
+joint = "smooth"
+velocity = [5.0, 0.0, 0.0]
+shape = { box = { min = [0.0, -0.4, 0.0], max = [0.8, 0.4, 0.2] } }
+
+[[body]]
+name = "cube"
+material = "rock"
+joint = "smooth"
+shape = { box = { min = [0.85, -0.1, 0.0], max = [1.05, 0.1, 0.2] } }
+"""
+
+
+def test_a_light_block_struck_by_a_heavy_one_is_named_past_the_bound(tmp_path):
+    """The bound is a sanity check, not a theorem: a 0.33 t slab sliding at 5 m/s on a smooth
+    floor strikes a 21 kg cube, which leaves faster than the slab came (an elastic rebound
+    would give it 9.4 m/s, a plastic one 4.7) and faster than the bound, √(5² + 2 g 0.2 m) =
+    5.38 m/s. The summary and the CLI's warning name it."""
+    path = tmp_path / "strike.toml"
+    path.write_text(STRIKE)
+    f = nmm3d.load(path).run(out=tmp_path / "out").summary["free_fall"]
+    # (The cube's lowest point a fraction of a millimetre off the floor as it leaves.)
+    assert f["bound"] == pytest.approx((5.0**2 + 2 * 9.81 * 0.2) ** 0.5, rel=1e-4)
+    assert f["max_ratio"] > 1.0 and f["body"] == "cube", f
+    assert "'cube'" in f["warning"] and "heavier block struck it" in f["warning"]
+
+
 SPIN = """
 [analysis]
 duration = 0.2

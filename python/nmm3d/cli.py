@@ -101,8 +101,13 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def _warnings(s: RunSummary) -> list[str]:
-    """The summary's warnings: an initial equilibrium not reached, an energy balance off."""
-    found = [s.initial_equilibrium.warning if s.initial_equilibrium else None, s.energy.warning if s.energy else None]
+    """The summary's warnings: an initial equilibrium not reached, an energy balance off, a
+    block faster than a free fall."""
+    found = [
+        s.initial_equilibrium.warning if s.initial_equilibrium else None,
+        s.energy.warning if s.energy else None,
+        s.free_fall.warning if s.free_fall else None,
+    ]
     return [w for w in found if w]
 
 

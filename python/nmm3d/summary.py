@@ -128,6 +128,25 @@ class StageSummary:
 
 
 @dataclass(frozen=True)
+class FreeFallSummary:
+    """The free-fall bound: no block's centre of mass faster than a body falling freely from
+    the highest point of the moving blocks at the start down to the block's lowest point,
+    starting at the fastest block's initial speed."""
+
+    #: largest speed over bound of any block over the run (> 1: past it)
+    max_ratio: float
+    #: that block (id of ``blocks.csv``) and its body
+    block: int
+    body: str
+    #: when [s], its centre of mass's speed then and its bound [m/s]
+    time: float
+    speed: float
+    bound: float
+    #: set when a block went past the bound in a run that gravity alone drives
+    warning: str | None = None
+
+
+@dataclass(frozen=True)
 class RunSummary:
     """Contents of ``summary.json``; ``None`` where a run could not define a value."""
 
@@ -180,6 +199,9 @@ class RunSummary:
     not_held: list[int] = dataclasses.field(default_factory=list)
     #: the monitors of those blocks (pinned where they crossed the limit: a study judges them failed)
     not_held_monitors: list[str] = dataclasses.field(default_factory=list)
+    #: the block closest to (or past) the free-fall bound of a dynamic run under gravity;
+    #: ``None`` for a static run, without gravity, or in summaries before it
+    free_fall: FreeFallSummary | None = None
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> RunSummary:

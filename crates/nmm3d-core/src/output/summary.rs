@@ -110,6 +110,31 @@ pub struct RunSummary {
     /// crossed the limit, which may lie below its criterion's displacement).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub not_held_monitors: Vec<String>,
+    /// The block that came closest to (or went past) the free-fall bound of a dynamic run
+    /// under gravity; `null` for a static run or without gravity.
+    #[serde(default)]
+    pub free_fall: Option<FreeFallSummary>,
+}
+
+/// The free-fall bound (`time/free_fall.rs`): no block's centre of mass faster than a body
+/// falling freely from the highest point of the moving blocks at the start down to the block's
+/// lowest point, starting at the fastest block's initial speed.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FreeFallSummary {
+    /// Largest speed over bound of any block over the run (> 1: past it).
+    pub max_ratio: f64,
+    /// That block (id of `blocks.csv`).
+    pub block: usize,
+    /// Name of its body.
+    pub body: String,
+    /// When [s].
+    pub time: f64,
+    /// Its centre of mass's speed then [m/s].
+    pub speed: f64,
+    /// Its bound then [m/s].
+    pub bound: f64,
+    /// Set when a block went past the bound in a run that gravity alone drives.
+    pub warning: Option<String>,
 }
 
 fn direct() -> String {

@@ -4,7 +4,7 @@
 use std::collections::BTreeMap;
 
 use super::recorder::Recorder;
-use crate::output::summary::{EnergySummary, InitialEquilibrium, ResumedFrom, RunSummary, Status};
+use crate::output::summary::{EnergySummary, FreeFallSummary, InitialEquilibrium, ResumedFrom, RunSummary, Status};
 use crate::output::{checks, cuts};
 use crate::system::System;
 use crate::time::settle::Settled;
@@ -68,7 +68,19 @@ pub(super) fn summary(sys: &System, whole: &State, stepper: &Stepper, rec: &Reco
             .map(|m| m.name.clone())
             .collect(),
         not_held,
+        free_fall: run.free_fall.as_ref().map(|f| free_fall(sys, f)),
     }
+}
+
+/// The run's free-fall bound, with a warning when a block went past it and gravity alone
+/// drives the run ([`crate::time::free_fall::gravity_only`]).
+fn free_fall(sys: &System, f: &crate::time::free_fall::FreeFall) -> FreeFallSummary {
+    let body = sys.scenario.body[sys.geometry.blocks[f.block].body].name.clone();
+    let past = f.ratio > 1.0 && crate::time::free_fall::gravity_only(&sys.scenario);
+    let warning = past.then(|| {
+        format!("block {} of body '{body}' moved at {:.3} m/s at t = {:.6} s, {:.2} times as fast as a free fall from the top of the moving blocks to it ({:.3} m/s): unless a heavier block struck it, look for energy from nowhere at its contacts (diagnostics.csv, cuts.csv)", f.block, f.speed, f.time, f.ratio, f.bound)
+    });
+    FreeFallSummary { max_ratio: f.ratio, block: f.block, body, time: f.time, speed: f.speed, bound: f.bound, warning }
 }
 
 /// The blocks beyond `analysis.static_travel_limit` of a static run that stopped with the

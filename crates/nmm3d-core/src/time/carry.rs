@@ -8,6 +8,7 @@
 use nmm3d_geom::Vec3;
 use rustc_hash::FxHashMap;
 
+use super::free_fall::FreeFall;
 use super::state::State;
 use super::stepper::Stepper;
 use crate::contact::{ContactHistory, ContactRecord};
@@ -88,6 +89,12 @@ pub fn carry(old: &System, new: &System, blocks: &[Option<usize>], state: &State
     let mut stepper = state.stepper.clone();
     stepper.contact_end = Maps::carry(&m.covers, &stepper.contact_end, z);
     stepper.locked = false;
+    // The free-fall record names a block of the old model: renumbered, or started again if
+    // the stage removed it.
+    stepper.free_fall = stepper.free_fall.map(|f| match m.blocks[f.block] {
+        Some(block) => FreeFall { block, ..f },
+        None => FreeFall { ratio: 0.0, block: 0, ..f },
+    });
     // Every pair is detected afresh at the stage's first step, the points inheriting from these.
     stepper.undetected = f64::MAX;
     State { motion, contact, stepper }

@@ -44,6 +44,9 @@ impl Stepper {
         let d = &a.d;
         // What to go back to if the step gives energy at its contacts (`gain`; only a step
         // where some point opened or closed can).
+        if dynamic && run.free_fall.is_none() {
+            run.free_fall = self.free_fall.start(state);
+        }
         let events = contact.as_ref().is_some_and(ContactHistory::any_event);
         let undo = gain::guarded(analysis, guard.armed && dynamic && events).then(|| (state.clone(), run.clone()));
         run.undetected += d.iter().map(|x| x.norm()).fold(0.0, f64::max);
@@ -94,6 +97,9 @@ impl Stepper {
             {
                 return Ok(Finish::Cut(next));
             }
+        }
+        if let Some(f) = run.free_fall.as_mut().filter(|_| dynamic) {
+            self.free_fall.observe(state, f);
         }
         if let Some(h) = contact.as_mut() {
             h.travel.add(sys, d);

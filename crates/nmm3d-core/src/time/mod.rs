@@ -11,6 +11,7 @@ pub mod cut;
 pub mod energy;
 mod equilibrate;
 mod finish;
+pub mod free_fall;
 mod gain;
 mod held;
 pub mod integrator;

@@ -8,6 +8,7 @@ use nmm3d_geom::Vec3;
 use serde::{Deserialize, Serialize};
 
 use super::energy::Energy;
+use super::free_fall::FreeFall;
 use crate::contact::ContactHistory;
 use crate::state::Motion;
 use crate::system::System;
@@ -58,6 +59,10 @@ pub struct StepperState {
     /// The Newton iterations of a static equilibrium so far (see `newton`).
     #[serde(default)]
     pub newton: NewtonState,
+    /// The free-fall bound of a dynamic run so far (`free_fall`; `None` before its first
+    /// step, without gravity, and in checkpoints written before it existed).
+    #[serde(default)]
+    pub free_fall: Option<FreeFall>,
 }
 
 /// What the next Newton iteration of a static equilibrium goes by (see `newton`).
@@ -98,6 +103,7 @@ impl Default for StepperState {
             undetected: 0.0,
             contact_end: Vec::new(),
             newton: NewtonState::default(),
+            free_fall: None,
         }
     }
 }

@@ -14,6 +14,7 @@ use super::base_motion::jump_acceleration;
 use super::contact_pattern::ContactPattern;
 use super::cut::{self, Cut, CutReason};
 use super::energy::Energy;
+use super::free_fall::FreeFallPlan;
 use super::gain;
 use super::integrator::{Newmark, StepCoefficients};
 use super::report::{PhaseTimes, StepReport};
@@ -50,6 +51,8 @@ pub struct Stepper {
     pub(super) last_changes: Vec<(usize, usize)>,
     /// Each cover's lumped (row-summed) mass [kg]: the weights of the blocks' rigid fits.
     pub(super) lumped_mass: Vec<f64>,
+    /// The model's part of the free-fall bound (`free_fall`).
+    pub(super) free_fall: FreeFallPlan,
     /// The displacements `initialize` assembled at and the unbalanced force it found (taken
     /// by the first step, see `assembled`).
     pub(super) fresh: Option<(Vec<Vec3>, Vec<Vec3>)>,
@@ -77,6 +80,7 @@ impl Stepper {
     /// grown, no factor yet).
     pub(super) fn on_model(sys: &System) -> Self {
         let nnz = sys.assembler.pattern.nnz();
+        let lumped_mass = lumped_mass(sys);
         Self {
             solver: solver(sys),
             pattern: ContactPattern::default(),
@@ -88,7 +92,8 @@ impl Stepper {
             cuts: Vec::new(),
             loads: Vec::new(),
             last_changes: Vec::new(),
-            lumped_mass: lumped_mass(sys),
+            free_fall: FreeFallPlan::new(sys, &lumped_mass),
+            lumped_mass,
             fresh: None,
         }
     }
