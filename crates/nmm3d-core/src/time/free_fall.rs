@@ -90,7 +90,8 @@ impl FreeFallPlan {
     /// `up` [m].
     fn block_now(&self, p: &BlockPlan, motion: &Motion) -> (f64, f64, f64) {
         let momentum: Vec3 = p.covers.iter().map(|&(c, m)| m * motion.v[c]).sum();
-        let heights = p.vertices.iter().map(|(z, w)| z + w.iter().map(|&(c, w)| w * motion.u[c].dot(&self.up)).sum::<f64>());
+        let heights =
+            p.vertices.iter().map(|(z, w)| z + w.iter().map(|&(c, w)| w * motion.u[c].dot(&self.up)).sum::<f64>());
         let (low, high) = heights.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), z| (l.min(z), h.max(z)));
         ((momentum / p.mass.max(f64::MIN_POSITIVE)).norm(), low, high)
     }
@@ -117,7 +118,13 @@ impl FreeFallPlan {
             let Some(p) = p.as_ref().filter(|p| !p.covers.is_empty() && !p.vertices.is_empty()) else { continue };
             let (speed, low, _) = self.block_now(p, motion);
             let bound = (f.initial_speed.powi(2) + 2.0 * self.g * (f.top - low).max(0.0)).sqrt();
-            let ratio = if bound > 0.0 { speed / bound } else if speed > 0.0 { f64::INFINITY } else { 0.0 };
+            let ratio = if bound > 0.0 {
+                speed / bound
+            } else if speed > 0.0 {
+                f64::INFINITY
+            } else {
+                0.0
+            };
             if ratio > f.ratio {
                 (f.ratio, f.block, f.time, f.speed, f.bound) = (ratio, b, motion.time, speed, bound);
             }
@@ -147,12 +154,23 @@ mod tests {
     /// One block of two covers of 1 kg each, resting between heights 0 and 1 m, g = 10 m/s².
     fn plan() -> FreeFallPlan {
         let both = vec![(0, 0.5), (1, 0.5)];
-        let block = BlockPlan { covers: vec![(0, 1.0), (1, 1.0)], mass: 2.0, vertices: vec![(0.0, both.clone()), (1.0, both)] };
+        let block =
+            BlockPlan { covers: vec![(0, 1.0), (1, 1.0)], mass: 2.0, vertices: vec![(0.0, both.clone()), (1.0, both)] };
         FreeFallPlan { up: Vec3::z(), g: 10.0, blocks: vec![None, Some(block)] }
     }
 
     fn motion(time: f64, u: [Vec3; 2], v: [Vec3; 2]) -> Motion {
-        Motion { time, step: 0, dt: 0.0, u: u.to_vec(), v: v.to_vec(), a: Vec::new(), rotations: Vec::new(), bolts: Vec::new(), base: [Vec3::zeros(); 2] }
+        Motion {
+            time,
+            step: 0,
+            dt: 0.0,
+            u: u.to_vec(),
+            v: v.to_vec(),
+            a: Vec::new(),
+            rotations: Vec::new(),
+            bolts: Vec::new(),
+            base: [Vec3::zeros(); 2],
+        }
     }
 
     #[test]
