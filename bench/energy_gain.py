@@ -1,6 +1,7 @@
 """Energy from nowhere: the largest gain (`summary.json` → `energy.max_gain_ratio`) of the
 dynamic block examples, as given and under variations of cover, step, pattern and integrator,
-two runs at a time. Writes `docs/energy-gain.md`.
+two runs at a time, and their fastest block against the free-fall bound (`free_fall.max_ratio`).
+Writes `docs/energy-gain.md`.
 
     python bench/energy_gain.py
 """
@@ -54,7 +55,16 @@ def sets(example: str, variant: str) -> list[str]:
 
 
 def energy(summary: dict) -> dict:
-    return summary["energy"] | {"status": summary["status"]}
+    return summary["energy"] | {"status": summary["status"], "free_fall": summary["free_fall"]}
+
+
+def table(got: dict, cell) -> list[str]:
+    """One row per example, one column per variant, `cell` of each run's record."""
+    rows = ["| example | " + " | ".join(VARIANTS) + " |", "|---|" + "---:|" * len(VARIANTS)]
+    for e in CASES:
+        cells = [cell(got[(e, v)]) + ("" if got[(e, v)]["status"] == "completed" else " (!)") for v in VARIANTS]
+        rows.append(f"| {e} | " + " | ".join(cells) + " |")
+    return rows
 
 
 def main() -> None:
@@ -65,12 +75,10 @@ def main() -> None:
     with ThreadPoolExecutor(2) as pool:
         results = list(pool.map(lambda j: energy(run_scenario(EXAMPLES / f"{scenario[j[0]]}.toml", j[2])), jobs))
     got = {(j[0], j[1]): r for j, r in zip(jobs, results)}
-    header = "| example | " + " | ".join(VARIANTS) + " |"
-    rows = [header, "|---|" + "---:|" * len(VARIANTS)]
-    for e in CASES:
-        cells = [f"{got[(e, v)]['max_gain_ratio']:.1e}" + ("" if got[(e, v)]["status"] == "completed" else " (!)")
-                 for v in VARIANTS]
-        rows.append(f"| {e} | " + " | ".join(cells) + " |")
+    rows = table(got, lambda r: f"{r['max_gain_ratio']:.1e}")
+    fastest = table(got, lambda r: f"{r['free_fall']['max_ratio']:.2f}" if r["free_fall"] else "–")
+    past = [f"{e}{', ' + v if v else ''} ({r['free_fall']['body']}, {r['free_fall']['max_ratio']:.2f})"
+            for (e, v), r in got.items() if r["free_fall"] and r["free_fall"]["max_ratio"] > 1.0]
     detail = ["| run | max gain ratio | at [s] | kinetic [J] | gravity's work [J] | contact events [J] | "
               "numerical [J] | warning |", "|---|---:|---:|---:|---:|---:|---:|---|"]
     for (e, v), r in got.items():
@@ -97,6 +105,17 @@ def main() -> None:
         "the end:",
         "",
         *detail,
+        "",
+        "## The fastest block against the free-fall bound",
+        "",
+        "The same runs: the largest ratio of a block's centre-of-mass speed to the speed of a free",
+        "fall from the top of the moving blocks at the start down to the block's lowest point, from",
+        "the fastest block's initial speed (`free_fall.max_ratio`; above 1 a run that gravity alone",
+        "drives warns; [theory/energy.md](theory/energy.md#the-free-fall-bound)); – : no gravity.",
+        "",
+        *fastest,
+        "",
+        "Runs past the bound: " + ("; ".join(past) if past else "none") + ".",
     ])
 
 
