@@ -42,11 +42,12 @@ impl Stepper {
             false => None,
         };
         let d = &a.d;
-        // What to go back to if the step gives energy at its contacts (`gain`; only a step
-        // where some point opened or closed can).
+        // The free-fall bound starts from the first dynamic step's start.
         if dynamic && run.free_fall.is_none() {
             run.free_fall = self.free_fall.start(state);
         }
+        // What to go back to if the step gives energy at its contacts (`gain`; only a step
+        // where some point opened or closed can).
         let events = contact.as_ref().is_some_and(ContactHistory::any_event);
         let undo = gain::guarded(analysis, guard.armed && dynamic && events).then(|| (state.clone(), run.clone()));
         run.undetected += d.iter().map(|x| x.norm()).fold(0.0, f64::max);

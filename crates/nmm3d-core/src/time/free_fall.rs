@@ -5,8 +5,8 @@
 //!   |v_b| ≤ √(v₀² + 2 |g| (top − low_b)).
 //!
 //! Gravity moves the blocks, contacts and the rock only take energy from them, so a block past
-//! the bound was given energy from nowhere — the contact events the issue that asked for it
-//! saw (a key block thrown to 13.9 m/s where 1.34 m/s was right). A sanity bound, not a
+//! the bound was given energy from nowhere — as at the contact event that once threw a key
+//! block to 13.9 m/s where 1.34 m/s was right. A sanity bound, not a
 //! theorem: a light block struck by a heavy one, or pushed by a row of them, can pass it
 //! (`docs/theory/energy.md`), and loads, water, a moving base, bolts or released in-situ
 //! stress do work it leaves out (`gravity_only`).
@@ -20,12 +20,12 @@ use crate::state::Motion;
 use crate::system::System;
 
 /// The model's part of the bound, made once: unit vector against gravity, |g|, and per
-/// moving block its covers with their lumped masses and its lowest point at u = 0.
+/// moving block its covers with their lumped masses and its vertices as material points.
 #[derive(Debug, Clone, Default)]
 pub struct FreeFallPlan {
     up: Vec3,
     g: f64,
-    /// Per block (`None`: fixed): covers with masses, total mass [kg], lowest point along `up` [m].
+    /// Per block (`None`: fixed).
     blocks: Vec<Option<BlockPlan>>,
 }
 
@@ -48,7 +48,7 @@ pub struct FreeFall {
     pub initial_speed: f64,
     /// Largest speed / bound so far (0 before a block moves).
     pub ratio: f64,
-    /// The block, time [s], its speed [m/s] and its bound [m/s] there.
+    /// The block of the largest ratio.
     pub block: usize,
     /// Time of the largest ratio [s].
     pub time: f64,
