@@ -147,7 +147,7 @@ pub fn read(out: &Path, scenario: &Scenario, label: &str) -> Result<Checkpoint> 
 /// Move a version-1 checkpoint's run state into place: version 1 kept the motion alone in
 /// `state` and the contact points and counters in `stepper`.
 pub fn upgrade_v1(v: &mut Value) {
-    const COUNTERS: [&str; 11] = [
+    const COUNTERS: [&str; 12] = [
         "force_scale",
         "locked",
         "relaxing",
@@ -159,6 +159,7 @@ pub fn upgrade_v1(v: &mut Value) {
         "undetected",
         "contact_end",
         "newton",
+        "free_fall",
     ];
     let Some(m) = v.as_object_mut() else { return };
     let motion = m.remove("state").unwrap_or(Value::Null);
