@@ -5,6 +5,9 @@ the cases whose energy is known, and flags energy created at an impact.
 from __future__ import annotations
 
 import csv
+import json
+import subprocess
+import sys
 
 import pytest
 
@@ -186,7 +189,10 @@ def test_a_light_block_struck_by_a_heavy_one_is_named_past_the_bound(tmp_path):
     5.38 m/s. The summary and the CLI's warning name it."""
     path = tmp_path / "strike.toml"
     path.write_text(STRIKE)
-    f = nmm3d.load(path).run(out=tmp_path / "out").summary["free_fall"]
+    cli = subprocess.run([sys.executable, "-m", "nmm3d", "run", str(path), "--out", str(tmp_path / "out"), "--quiet"],
+                         capture_output=True, text=True, timeout=600)
+    assert cli.returncode == 0 and "warning: block" in cli.stderr and "'cube'" in cli.stderr, cli.stderr
+    f = json.loads((tmp_path / "out" / "summary.json").read_text())["free_fall"]
     # (The cube's lowest point a fraction of a millimetre off the floor as it leaves.)
     assert f["bound"] == pytest.approx((5.0**2 + 2 * 9.81 * 0.2) ** 0.5, rel=1e-4)
     assert f["max_ratio"] > 1.0 and f["body"] == "cube", f
