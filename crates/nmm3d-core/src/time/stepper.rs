@@ -66,7 +66,7 @@ impl Stepper {
         let mut stepper = Self::on_model(sys);
         state.contact = stepper.contacts.as_ref().map(|_| ContactHistory::new(contact_params(sys)));
         if let (Some(c), Some(h)) = (stepper.contacts.as_mut(), state.contact.as_mut()) {
-            c.detect(sys, &state.motion, h, (true, f64::INFINITY));
+            c.detect(sys, &state.motion, h, (true, f64::INFINITY, false));
             let problems = overlap_problems(sys, h, sys.scenario.contact.overlap_tolerance * sys.covers.mesh().size);
             if !problems.is_empty() {
                 return Err(Error::Scenario { file: label.to_string(), problems });
@@ -161,7 +161,7 @@ impl Stepper {
                 h.refresh(sys, state);
             } else {
                 let reach = Self::reach(sys, (state, run), state.dt.min(dt_cap));
-                c.detect(sys, state, h, (false, reach));
+                c.detect(sys, state, h, (false, reach, run.relaxing));
                 run.undetected = 0.0;
             }
         }
