@@ -377,3 +377,33 @@ fn keep_joint_area(
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::record::{test_point, ContactState};
+
+    /// A point of pair (1, 0) with `area` [m²] on a joint of 1 MPa/m (or on a penalty).
+    fn point(area: f64, joint: bool) -> ContactRecord {
+        let mut r = test_point(ContactState::Stick, -1e-3);
+        (r.blocks, r.area, r.kn, r.ks, r.joint_stiffness) = ((1, 0), area, 1e6 * area, 1e6 * area, joint);
+        r
+    }
+
+    #[test]
+    fn a_joint_redetected_with_less_area_keeps_what_its_points_held() {
+        let previous = vec![point(0.5, true), point(0.5, true)];
+        let by_pair: FxHashMap<(usize, usize), Vec<usize>> = [((1, 0), vec![0, 1])].into_iter().collect();
+        let mut now = vec![point(0.1, true), point(0.15, true)];
+        keep_joint_area(&previous, &by_pair, &mut now);
+        assert!((now.iter().map(|r| r.area).sum::<f64>() - 1.0).abs() < 1e-12);
+        assert!((now[0].kn - 0.4e6).abs() < 1e-6 && (now[1].ks - 0.6e6).abs() < 1e-6);
+        // More area than before, or a penalty contact (its spring is no joint's), stays as found.
+        let mut more = vec![point(1.5, true)];
+        keep_joint_area(&previous, &by_pair, &mut more);
+        assert_eq!(more[0].area, 1.5);
+        let mut penalty = vec![point(0.1, false)];
+        keep_joint_area(&previous, &by_pair, &mut penalty);
+        assert_eq!(penalty[0].kn, 1e5);
+    }
+}
