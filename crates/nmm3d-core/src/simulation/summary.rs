@@ -7,6 +7,7 @@ use super::recorder::Recorder;
 use crate::output::summary::{EnergySummary, FreeFallSummary, InitialEquilibrium, ResumedFrom, RunSummary, Status};
 use crate::output::{checks, cuts};
 use crate::system::System;
+use crate::time::free_fall::{gravity_only, FreeFall};
 use crate::time::settle::Settled;
 use crate::time::{State, Stepper};
 
@@ -73,10 +74,10 @@ pub(super) fn summary(sys: &System, whole: &State, stepper: &Stepper, rec: &Reco
 }
 
 /// The run's free-fall bound, with a warning when a block went past it and gravity alone
-/// drives the run ([`crate::time::free_fall::gravity_only`]).
-fn free_fall(sys: &System, f: &crate::time::free_fall::FreeFall) -> FreeFallSummary {
+/// drives the run ([`gravity_only`]).
+fn free_fall(sys: &System, f: &FreeFall) -> FreeFallSummary {
     let body = sys.scenario.body[sys.geometry.blocks[f.block].body].name.clone();
-    let past = f.ratio > 1.0 && crate::time::free_fall::gravity_only(&sys.scenario);
+    let past = f.ratio > 1.0 && gravity_only(&sys.scenario);
     let warning = past.then(|| {
         format!("block {} of body '{body}' moved at {:.3} m/s at t = {:.6} s, {:.2} times as fast as a free fall from the top of the moving blocks to it ({:.3} m/s): unless a heavier block struck it, look for energy from nowhere at its contacts (diagnostics.csv, cuts.csv)", f.block, f.speed, f.time, f.ratio, f.bound)
     });

@@ -59,8 +59,9 @@ pub struct FreeFall {
 }
 
 impl FreeFallPlan {
-    /// The plan of `sys` with covers' lumped masses `mass` [kg]; empty without gravity.
-    pub fn new(sys: &System, mass: &[f64]) -> Self {
+    /// The plan of `sys` (its covers' lumped masses, `System::cover_mass`); empty without gravity.
+    pub fn new(sys: &System) -> Self {
+        let mass = &sys.cover_mass;
         let g = Vec3::from(sys.scenario.analysis.gravity);
         if g.norm() == 0.0 {
             return Self::default();

@@ -80,7 +80,6 @@ impl Stepper {
     /// grown, no factor yet).
     pub(super) fn on_model(sys: &System) -> Self {
         let nnz = sys.assembler.pattern.nnz();
-        let lumped_mass = lumped_mass(sys);
         Self {
             solver: solver(sys),
             pattern: ContactPattern::default(),
@@ -92,8 +91,8 @@ impl Stepper {
             cuts: Vec::new(),
             loads: Vec::new(),
             last_changes: Vec::new(),
-            free_fall: FreeFallPlan::new(sys, &lumped_mass),
-            lumped_mass,
+            free_fall: FreeFallPlan::new(sys),
+            lumped_mass: lumped_mass(sys),
             fresh: None,
         }
     }
