@@ -42,6 +42,7 @@ CASES = {
     "drop_test.toml": [],
     "damped_drop.toml": [],
     "block_on_joint.toml": [],
+    "eccentric_footing.toml": [],
     "tetrahedral_wedge.toml": ["analysis.duration=0.2"],
     "block_tower.toml": ["analysis.max_steps=1000"],
     "dominos.toml": ["analysis.duration=0.3"],
@@ -128,7 +129,7 @@ def test_examples_with_a_closed_form_state_it():
                  "cantilever_self_weight.toml", "incline.toml", "roof_wedge.toml", "drop_test.toml", "damped_drop.toml",
                  "block_on_joint.toml", "tetrahedral_wedge.toml", "newmark_sliding_block.toml",
                  "incline_water.toml", "bolted_block.toml", "grouted_bolt.toml", "grouted_dowel.toml",
-                 "two_wedges.toml", "sliding_wedge.toml"):
+                 "two_wedges.toml", "sliding_wedge.toml", "eccentric_footing.toml"):
         assert nmm3d.load(EXAMPLES / name).to_dict().get("expect"), name
 
 

@@ -145,3 +145,28 @@ def lame_excavation(r, a: float, b: float, pressure: float, young: float, poisso
     big_a, big_b = np.linalg.solve(m, [pressure, 0.0])
     r = np.asarray(r, dtype=float)
     return big_a * r + big_b / r, 2.0 * (lam + g) * big_a + 2.0 * g * big_b / r**2
+
+
+def footing_on_joint(load: float, width: float, length: float, eccentricity: float, stiffness: float):
+    """Rotation [rad], settlement of the base's centre [m] (down positive) and contact width [m]
+    of a rigid footing (base ``width`` × ``length``) on a tensionless joint of normal stiffness
+    ``stiffness`` [Pa/m], under a vertical ``load`` [N] at ``eccentricity`` [m] from the centre
+    across the width. Inside the kern (e ≤ B/6) the whole base presses: θ = 12 P e / (k L B³),
+    δ₀ = P / (k B L). Beyond it the heel lifts and the pressure is a triangle over
+    c = 3 (B/2 − e), its peak 2P / (c L) (Bowles, *Foundation Analysis and Design*, 5th ed.
+    1996, §4-8): θ = 2P / (k c² L), δ₀ = θ (c − B/2)."""
+    half, e = 0.5 * width, abs(eccentricity)
+    if e <= width / 6.0:
+        return 12.0 * load * e / (stiffness * length * width**3), load / (stiffness * width * length), width
+    c = 3.0 * (half - e)
+    theta = 2.0 * load / (stiffness * c * c * length)
+    return theta, theta * (c - half), c
+
+
+def corner_lumped_rotation(rotation: float, cell: float, width: float) -> float:
+    """The rotation [rad] of a footing pressing with its whole base (``footing_on_joint`` in the
+    kern) when the joint's springs sit at the corners of square cover cells of side ``cell`` [m],
+    each carrying an equal share of its cell's area: their moment of inertia is the trapezoidal
+    rule's Σ A x², larger than ∫ x² dA = L B³/12 by the rule's error L B h²/6 (a width of whole
+    cells), so θ_h = θ / (1 + 2h² / B²) — second order in the cell."""
+    return rotation / (1.0 + 2.0 * (cell / width) ** 2)

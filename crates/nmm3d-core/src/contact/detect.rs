@@ -150,7 +150,7 @@ impl ContactSurfaces {
                     current: (&current[i], &current[j]),
                     facets: (facets_of(i), facets_of(j)),
                 };
-                Some((i, j, c.normal, candidates(sys, state, &on, &c, (p.tolerance, p.merge))))
+                Some((i, j, c.normal, candidates(sys, state, &on, &c, p)))
             })
             .collect()
     }
@@ -257,15 +257,22 @@ struct Surfaces<'a> {
 
 /// Contact point candidates of a detected pair: on the facets for a face-to-face contact, else
 /// the piece-level points (area shared equally); and the corners approaching the plane's face.
-fn candidates(sys: &System, state: &Motion, on: &Surfaces, c: &Contact, (tol, merge): (f64, f64)) -> Vec<Candidate> {
+fn candidates(sys: &System, state: &Motion, on: &Surfaces, c: &Contact, p: &ContactParams) -> Vec<Candidate> {
+    let (tol, merge) = (p.tolerance, p.merge);
     let ((pa, pb), (ca, cb)) = (on.pieces, on.current);
     let (n, merge_sq) = (c.normal, merge * merge);
     let level = |p: &ConvexPolyhedron, f: fn(f64, f64) -> f64, init: f64| {
         p.faces.iter().flat_map(|x| x.vertices.iter()).map(|v| n.dot(v)).fold(init, f)
     };
     let (level_a, level_b) = (level(ca, f64::min, f64::INFINITY), level(cb, f64::max, f64::NEG_INFINITY));
-    let on_facets =
-        facets::overlay(sys, (&pa.facets, on.facets.0), (&pb.facets, on.facets.1), &n, (level_a, level_b), tol, merge);
+    let on_facets = facets::overlay(
+        sys,
+        (&pa.facets, on.facets.0),
+        (&pb.facets, on.facets.1),
+        &n,
+        (level_a, level_b),
+        (tol, merge, p.turned_face),
+    );
     let mut found = if on_facets.is_empty() {
         let area = if c.points.is_empty() { 0.0 } else { c.area / c.points.len() as f64 };
         piece_points(sys, state, on, &c.points, (c.normal, area, tol), c.separation)

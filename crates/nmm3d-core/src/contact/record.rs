@@ -172,6 +172,15 @@ pub struct ContactParams {
     /// Contact dashpots: fraction of critical damping of a block pair's normal mode [-].
     #[serde(default)]
     pub damping_ratio: f64,
+    /// Cosine of `contact.turned_face_angle`: a facet reaching out of the band that faces the
+    /// plane within it takes part with its part inside (1: off) [-].
+    #[serde(default = "no_turned_face")]
+    pub turned_face: f64,
+}
+
+/// `ContactParams::turned_face` of a run that predates it: off.
+fn no_turned_face() -> f64 {
+    1.0
 }
 
 impl ContactRecord {
@@ -324,6 +333,7 @@ impl ContactParams {
             reclose: 1e-3 * tolerance,
             max_reclose: 2,
             slip_turn: 0.017_45,
+            turned_face: 1.0,
             touching: 1e-3 * tolerance,
             min_share: 0.05,
             merge: 10.0 * tolerance,

@@ -84,5 +84,6 @@ pub(super) fn contact_params(sys: &System) -> ContactParams {
         min_share: k.min_area_share,
         merge: k.merge_ratio * tolerance,
         damping_ratio: k.damping_ratio,
+        turned_face: k.turned_face_angle.to_radians().cos(),
     }
 }

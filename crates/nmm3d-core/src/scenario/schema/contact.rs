@@ -101,6 +101,10 @@ pub struct ContactSpec {
     /// closed points (0: none; the springs then lose energy only by friction and by the time
     /// scheme) [-] (addition).
     pub damping_ratio: f64,
+    /// A contact facet that reaches out of the detection band takes part with its part inside
+    /// it when it faces the contact plane within this angle (0: off — only facets wholly in the
+    /// band) [°] (addition).
+    pub turned_face_angle: f64,
 }
 
 impl Default for ContactSpec {
@@ -126,6 +130,7 @@ impl Default for ContactSpec {
             min_area_share: 0.05,
             merge_ratio: 10.0,
             damping_ratio: 0.0,
+            turned_face_angle: 0.0,
         }
     }
 }

@@ -6,6 +6,10 @@ use std::collections::HashSet;
 use super::schema::*;
 use crate::error::Problem;
 
+/// Largest `contact.turned_face_angle` [°]: a face turned farther against the contact plane
+/// meets it at an edge, not as the same joint face.
+const TURNED_FACE_LIMIT: f64 = 10.0;
+
 mod analysis;
 mod stages;
 mod support;
@@ -73,6 +77,12 @@ pub fn problems(s: &Scenario) -> Vec<Problem> {
     }
     if !(k.damping_ratio >= 0.0 && k.damping_ratio.is_finite()) {
         c.fail("contact.damping_ratio", format!("must be a finite number ≥ 0, got {}", k.damping_ratio));
+    }
+    if !(0.0..=TURNED_FACE_LIMIT).contains(&k.turned_face_angle) {
+        c.fail(
+            "contact.turned_face_angle",
+            format!("must lie in [0, {TURNED_FACE_LIMIT}] degrees, got {}", k.turned_face_angle),
+        );
     }
     if !(k.penalty_raise > 1.0 && k.penalty_raise.is_finite()) {
         c.fail("contact.penalty_raise", format!("must be a finite number > 1, got {}", k.penalty_raise));

@@ -1,0 +1,63 @@
+"""Verification: a rigid footing on a tensionless joint of given stiffness (Pa/m), loaded in and
+beyond its kern (`examples/eccentric_footing.toml`; Bowles 1996, `nmm3d.analytic.footing_on_joint`).
+
+Inside the kern the whole base presses, and the joint's springs — at the corners of the cover
+cells, each with an equal share of its cell — integrate the pressure by the trapezoidal rule:
+the settlement is exact, the moment stiffness too large by the rule's error, so the rotation is
+θ / (1 + 2h²/B²) (`corner_lumped_rotation`), second order in the cell h. Beyond the kern the heel
+lifts and the contact's edge falls between corners: first order, to within 2 % at h = B/16.
+"""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+import nmm3d
+from conftest import EXAMPLES
+from nmm3d.analytic import corner_lumped_rotation, footing_on_joint
+
+P, B, L, K = 1.0e5, 2.0, 1.0, 1.0e7
+CELLS = (0.5, 0.25, 0.125)
+
+
+def footing(eccentricity: float, cell: float, tmp_path) -> tuple[float, float]:
+    """Rotation [rad] and settlement of the base's centre (down positive) [m]."""
+    r = nmm3d.load(
+        EXAMPLES / "eccentric_footing.toml",
+        [f"cover.size={cell}", f"point_load.0.point=[{eccentricity}, 0.0, 0.01]"],
+    ).run(out=tmp_path / f"e{eccentricity}-h{cell}")
+    assert r.completed, r.summary["message"]
+    return r.history["footing.rotation.y"][-1], -r.history["footing.displacement.z"][-1]
+
+
+def test_the_closed_form_is_continuous_at_the_kern():
+    inside, beyond = footing_on_joint(P, B, L, B / 6.0, K), footing_on_joint(P, B, L, B / 6.0 + 1e-12, K)
+    assert inside == pytest.approx(beyond, rel=1e-9)
+
+
+def test_inside_the_kern_the_joint_turns_as_its_corner_springs_predict(tmp_path):
+    e = 0.2
+    theta, settlement, _ = footing_on_joint(P, B, L, e, K)
+    errors = []
+    for h in CELLS:
+        rotation, sunk = footing(e, h, tmp_path)
+        assert sunk == pytest.approx(settlement, rel=2e-3)
+        assert rotation == pytest.approx(corner_lumped_rotation(theta, h, B), rel=5e-3), h
+        errors.append(abs(rotation / theta - 1.0))
+    # Second order in the cell: each halving cuts the error about fourfold.
+    rates = [math.log2(a / b) for a, b in zip(errors, errors[1:])]
+    assert all(r > 1.8 for r in rates), rates
+
+
+def test_beyond_the_kern_the_heel_lifts_and_the_answer_converges(tmp_path):
+    e = 0.55
+    theta, settlement, contact = footing_on_joint(P, B, L, e, K)
+    assert contact == pytest.approx(1.35)
+    errors = []
+    for h in CELLS:
+        rotation, sunk = footing(e, h, tmp_path)
+        errors.append(max(abs(rotation / theta - 1.0), abs(sunk / settlement - 1.0)))
+    assert errors[0] > errors[1] > errors[2], errors
+    assert errors[2] < 0.02, errors
