@@ -115,7 +115,7 @@ fn in_band<'a>(
                 return None;
             }
             let q = clip(part.unwrap_or_else(|| x.to_vec()), &slab);
-            (q.len() >= 3).then(|| (f, x.as_slice(), m, Cow::Owned(q)))
+            (q.len() >= 3).then_some((f, x.as_slice(), m, Cow::Owned(q)))
         })
         .collect()
 }
@@ -310,3 +310,35 @@ fn find(index: &FxHashMap<[i64; 3], Vec<usize>>, points: &[Candidate], x: &Vec3,
 
 /// A facet lies on a piece when its vertices are within this fraction of the cover size of it.
 const ON_PIECE: f64 = 1e-9;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A facet with current vertices `x` (its material points are not used by `in_band`).
+    fn facet(x: &[Vec3]) -> Facet {
+        Facet { vertices: x.iter().map(|&p| MaterialPoint { element: 0, weights: vec![], reference: p }).collect() }
+    }
+
+    #[test]
+    fn a_face_turned_against_the_plane_takes_part_with_its_part_in_the_band() {
+        // A 1 m square facing down (A's side of a plane with normal +z), turned so that it
+        // rises 3 mm across x; the band holds its lowest 1.5 mm.
+        let x = vec![
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::new(1.0, 1.0, 3e-3),
+            Vec3::new(1.0, 0.0, 3e-3),
+        ];
+        let (facets, xs, n, band) = (vec![facet(&x)], vec![x], Vec3::z(), (-1e-4, 1.5e-3));
+        assert!(in_band(&facets, &xs, &n, band, (-1.0, 1.0), None).is_empty(), "off: whole facets only");
+        let turned = 2f64.to_radians().cos();
+        let chosen = in_band(&facets, &xs, &n, band, (-1.0, turned), None);
+        assert_eq!(chosen.len(), 1);
+        let area = polygon::area_vector(&chosen[0].3).norm();
+        assert!((area - 0.5).abs() < 1e-5, "half the face lies in the band: {area}");
+        // Turned by 10°, beyond the angle: an edge meeting a face, not taken.
+        let steep: Vec<Vec3> = xs[0].iter().map(|p| Vec3::new(p.x, p.y, p.x * 10f64.to_radians().tan())).collect();
+        assert!(in_band(&[facet(&steep)], &[steep], &n, band, (-1.0, turned), None).is_empty());
+    }
+}
