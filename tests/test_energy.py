@@ -197,6 +197,19 @@ def test_a_light_block_struck_by_a_heavy_one_is_named_past_the_bound(tmp_path):
     assert f["bound"] == pytest.approx((5.0**2 + 2 * 9.81 * 0.2) ** 0.5, rel=1e-4)
     assert f["max_ratio"] > 1.0 and f["body"] == "cube", f
     assert "'cube'" in f["warning"] and "heavier block struck it" in f["warning"]
+    assert "overlapped" not in f["warning"]  # stiff contact: the overlap is no cause
+
+
+def test_a_strike_on_soft_joints_names_the_deep_overlap(tmp_path):
+    """The same strike on joints of 1 MPa/m: the 21 kg cube, 0.04 m² against the slab, passes
+    v √(m/(k A)) ≈ 11 cm into it — over half the 0.2 m cover — and leaves 1.4 times past the bound.
+    The warning names the joints' own stiffness (docs/theory/contact.md, *Turned faces in a run*)."""
+    path = tmp_path / "strike.toml"
+    path.write_text(STRIKE.replace("friction_angle = 0.0\n", "friction_angle = 0.0\nnormal_stiffness = 1.0e6\n"))
+    r = nmm3d.load(path).run(out=tmp_path / "out")
+    f = r.summary["free_fall"]
+    assert r.summary["max_penetration"] > 0.1 * 0.2 and f["max_ratio"] > 1.0, (r.summary["max_penetration"], f)
+    assert "on joints of their own stiffness" in f["warning"], f["warning"]
 
 
 SPIN = """

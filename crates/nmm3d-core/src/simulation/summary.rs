@@ -53,7 +53,7 @@ pub(super) fn summary(sys: &System, whole: &State, stepper: &Stepper, rec: &Reco
         krylov_iterations: counts.krylov_iterations,
         krylov_failures: counts.krylov_failures,
         unbalanced_force_ratio: Some(rec.last_unbalanced).filter(|r| r.is_finite()),
-        energy: energy_summary(run.energy.as_ref(), &rec.diagnostics),
+        energy: energy_summary(run.energy.as_ref(), &rec.diagnostics, &deep_overlap(sys, rec.max_penetration)),
         step_diagnostics: cuts::summary(sys, &rec.cut_log, &rec.diagnostics),
         stress_sign: "compression negative".into(),
         timings: timings(sys, stepper, rec),
@@ -69,20 +69,38 @@ pub(super) fn summary(sys: &System, whole: &State, stepper: &Stepper, rec: &Reco
             .map(|m| m.name.clone())
             .collect(),
         not_held,
-        free_fall: run.free_fall.as_ref().map(|f| free_fall(sys, f)),
+        free_fall: run.free_fall.as_ref().map(|f| free_fall(sys, f, &deep_overlap(sys, rec.max_penetration))),
     }
 }
 
 /// The run's free-fall bound, with a warning when a block went past it and gravity alone
-/// drives the run ([`gravity_only`]).
-fn free_fall(sys: &System, f: &FreeFall) -> FreeFallSummary {
+/// drives the run ([`gravity_only`]); `cause`: [`deep_overlap`]'s clause.
+fn free_fall(sys: &System, f: &FreeFall, cause: &str) -> FreeFallSummary {
     let body = sys.scenario.body[sys.geometry.blocks[f.block].body].name.clone();
     let past = f.ratio > 1.0 && gravity_only(&sys.scenario);
     let warning = past.then(|| {
-        format!("block {} of body '{body}' moved at {:.3} m/s at t = {:.6} s, {:.2} times as fast as a free fall from the top of the moving blocks to it ({:.3} m/s): unless a heavier block struck it, look for energy from nowhere at its contacts (diagnostics.csv, cuts.csv)", f.block, f.speed, f.time, f.ratio, f.bound)
+        format!("block {} of body '{body}' moved at {:.3} m/s at t = {:.6} s, {:.2} times as fast as a free fall from the top of the moving blocks to it ({:.3} m/s): unless a heavier block struck it, look for energy from nowhere at its contacts (diagnostics.csv, cuts.csv){cause}", f.block, f.speed, f.time, f.ratio, f.bound)
     });
     FreeFallSummary { max_ratio: f.ratio, block: f.block, body, time: f.time, speed: f.speed, bound: f.bound, warning }
 }
+
+/// A clause for the warnings of energy from nowhere when joints of their own stiffness let the
+/// blocks overlap by more than [`DEEP_OVERLAP`] of the cover size: on 10 MPa/m joints blocks
+/// that meet at metres per second pass 10–50 cm into each other, and a detection that finds such
+/// an overlap again sets spring energy that was not there (`docs/theory/contact.md`, *Turned
+/// faces in a run*). Empty otherwise.
+fn deep_overlap(sys: &System, max_penetration: f64) -> String {
+    let size = sys.covers.mesh().size;
+    let joints = sys.scenario.joint.iter().any(|j| j.stiffness().is_some());
+    if !joints || max_penetration <= DEEP_OVERLAP * size {
+        return String::new();
+    }
+    format!("; the blocks overlapped by up to {max_penetration:.3} m ({:.0} % of the cover size) on joints of their own stiffness: springs that soft let blocks that strike each other pass far into each other, and contacts that deep are no joint's — the joint stiffness is a closed joint's, too soft for impacts (docs/theory/contact.md, turned faces in a run)", 100.0 * max_penetration / size)
+}
+
+/// Overlap, as a fraction of the cover size, beyond which the warnings of energy from nowhere
+/// name the joints' own stiffness as the likely cause.
+const DEEP_OVERLAP: f64 = 0.1;
 
 /// The blocks beyond `analysis.static_travel_limit` of a static run that stopped with the
 /// others in equilibrium (`System::beyond_travel_limit`); none otherwise.
@@ -161,6 +179,7 @@ fn hint(method: crate::scenario::InitialEquilibrium) -> &'static str {
 fn energy_summary(
     end: Option<&crate::time::Energy>,
     rows: &[(f64, u64, crate::time::StepReport)],
+    cause: &str,
 ) -> Option<EnergySummary> {
     let e = end?;
     // Relative to the largest account of the whole run: early steps, with little energy yet,
@@ -183,7 +202,7 @@ fn energy_summary(
             format!("the energy balance error reached {:.1} % of the largest energy account at t = {:.6} s (bound {bound:.0} %): look for impacts in diagnostics.csv", 100.0 * worst.0, worst.1)
         }),
         (gain.0 > ENERGY_ERROR_BOUND).then(|| {
-            format!("the blocks held {:.1} % of the largest energy account more kinetic and strain energy than the loads and the start gave them, at t = {:.6} s (bound {bound:.0} %): energy from nowhere, booked as negative dissipation ({}; diagnostics.csv) — an undamped integrator on blocks that bounce on their joints: damp the contacts (contact.damping_ratio) or keep the default integrator", 100.0 * gain.0, gain.1, negative_accounts(e))
+            format!("the blocks held {:.1} % of the largest energy account more kinetic and strain energy than the loads and the start gave them, at t = {:.6} s (bound {bound:.0} %): energy from nowhere, booked as negative dissipation ({}; diagnostics.csv) — an undamped integrator on blocks that bounce on their joints: damp the contacts (contact.damping_ratio) or keep the default integrator{cause}", 100.0 * gain.0, gain.1, negative_accounts(e))
         }),
     ]
     .into_iter()
