@@ -105,11 +105,11 @@ fn in_band<'a>(
                 return None;
             }
             let part = window.map(|planes| clip(x.to_vec(), planes));
-            match &part {
-                Some(q) if q.is_empty() => return None,
-                Some(q) if q.iter().all(within) => return Some((f, x.as_slice(), m, Cow::Borrowed(x.as_slice()))),
-                None if x.iter().all(within) => return Some((f, x.as_slice(), m, Cow::Borrowed(x.as_slice()))),
-                _ => {}
+            if part.as_ref().is_some_and(Vec::is_empty) {
+                return None;
+            }
+            if part.as_deref().unwrap_or(x).iter().all(within) {
+                return Some((f, x.as_slice(), m, Cow::Borrowed(x.as_slice())));
             }
             if turned >= 1.0 || facing < turned * m.norm() {
                 return None;

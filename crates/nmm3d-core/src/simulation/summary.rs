@@ -28,6 +28,7 @@ pub(super) fn summary(sys: &System, whole: &State, stepper: &Stepper, rec: &Reco
     let last = rec.final_values();
     let counts = stepper.solve_counts();
     let not_held = not_held(sys, whole, rec, end.status);
+    let cause = deep_overlap(sys, rec.max_penetration);
     RunSummary {
         status: end.status,
         message: end.message.to_string(),
@@ -53,7 +54,7 @@ pub(super) fn summary(sys: &System, whole: &State, stepper: &Stepper, rec: &Reco
         krylov_iterations: counts.krylov_iterations,
         krylov_failures: counts.krylov_failures,
         unbalanced_force_ratio: Some(rec.last_unbalanced).filter(|r| r.is_finite()),
-        energy: energy_summary(run.energy.as_ref(), &rec.diagnostics, &deep_overlap(sys, rec.max_penetration)),
+        energy: energy_summary(run.energy.as_ref(), &rec.diagnostics, &cause),
         step_diagnostics: cuts::summary(sys, &rec.cut_log, &rec.diagnostics),
         stress_sign: "compression negative".into(),
         timings: timings(sys, stepper, rec),
@@ -69,7 +70,7 @@ pub(super) fn summary(sys: &System, whole: &State, stepper: &Stepper, rec: &Reco
             .map(|m| m.name.clone())
             .collect(),
         not_held,
-        free_fall: run.free_fall.as_ref().map(|f| free_fall(sys, f, &deep_overlap(sys, rec.max_penetration))),
+        free_fall: run.free_fall.as_ref().map(|f| free_fall(sys, f, &cause)),
     }
 }
 
