@@ -169,6 +169,7 @@ class RunSummary:
     penalty_raises: int
     equilibrium_iterations: int
     missed_overlaps: int
+    carried_joint_forces: int
     pattern_rebuilds: int
     factor_nonzeros: int
     factorizations: int

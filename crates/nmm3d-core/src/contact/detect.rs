@@ -13,6 +13,7 @@ use nmm3d_geom::{Aabb, ConvexPolyhedron, Vec3};
 
 use super::facets::{self, Candidate};
 use super::history::ContactHistory;
+use super::joint_force::{self, Redetection};
 use super::record::{ContactParams, ContactRecord, ContactState};
 use super::set::{ContactSurfaces, ContactTimes};
 use super::surface::ContactPiece;
@@ -43,14 +44,14 @@ impl ContactSurfaces {
     /// take the in-situ traction and the joint's bond. `reach` [m]: how far a point may move in
     /// the coming step (infinite: as far as the step control allows); pairs farther apart than
     /// twice it get no points — the lagged verification adds those that arrive all the same.
-    /// `keep_area`: a joint re-detected with less area than its points had keeps theirs
-    /// ([`keep_joint_area`]; the frictional initial equilibrium's static steps).
+    /// `rule`: what a joint pair found again keeps of its previous points
+    /// ([`super::joint_force`]).
     pub fn detect(
         &mut self,
         sys: &System,
         state: &Motion,
         h: &mut ContactHistory,
-        (initial, reach, keep_area): (bool, f64, bool),
+        (initial, reach, rule): (bool, f64, Redetection),
     ) {
         let clock = Instant::now();
         let current: Vec<_> = self.pieces.par_iter().map(|p| p.current(sys, state)).collect();
@@ -108,8 +109,11 @@ impl ContactSurfaces {
                 h.records.push(r);
             }
         }
-        if keep_area && !initial {
-            keep_joint_area(&previous, &by_pair, &mut h.records);
+        if !initial {
+            let changed = joint_force::redetected(rule, &previous, &by_pair, &mut h.records);
+            if rule == Redetection::CarryForce {
+                h.carried_forces += changed as u64;
+            }
         }
         self.times.detection += clock.elapsed().as_secs_f64();
     }
@@ -356,61 +360,4 @@ fn joint_between(sys: &System, a: usize, b: usize) -> Option<&Joint> {
         .or(s.body[sys.geometry.blocks[a].body].joint.as_ref())
         .or(s.body[sys.geometry.blocks[b].body].joint.as_ref())?;
     s.joint.iter().find(|x| &x.name == name)
-}
-
-/// A joint (points on the joint's own stiffness, Pa/m × area) re-detected with less contact
-/// area than its previous points held keeps that area: its new points' areas and springs are
-/// scaled up to it. The overlay shares only the area of the facets it finds on the contact
-/// plane, and faces turned by millimetres over a metre drop out of it: on the thesis tunnel at
-/// 1 MPa/m the roof key block's carrying joint went from 0.27 to 0.05 m², its springs softened
-/// six-fold and the settling swung between two states (`docs/theory/contact.md`). Only while
-/// blocks settle, where a joint closed at the start stays the same joint; in a run, a pair's
-/// area shrinks as blocks slide apart. `by_pair`: each re-detected pair's previous points.
-fn keep_joint_area(
-    previous: &[ContactRecord],
-    by_pair: &FxHashMap<(usize, usize), Vec<usize>>,
-    records: &mut [ContactRecord],
-) {
-    let mut now: FxHashMap<(usize, usize), f64> = FxHashMap::default();
-    for r in records.iter().filter(|r| by_pair.contains_key(&r.blocks)) {
-        *now.entry(r.blocks).or_default() += r.area;
-    }
-    for r in records.iter_mut().filter(|r| r.joint_stiffness) {
-        let (Some(was), Some(&area)) = (by_pair.get(&r.blocks), now.get(&r.blocks)) else { continue };
-        let before: f64 = was.iter().map(|&k| previous[k].area).sum();
-        if area > 0.0 && area < before {
-            let f = before / area;
-            (r.area, r.kn, r.ks) = (r.area * f, r.kn * f, r.ks * f);
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::contact::record::{test_point, ContactState};
-
-    /// A point of pair (1, 0) with `area` [m²] on a joint of 1 MPa/m (or on a penalty).
-    fn point(area: f64, joint: bool) -> ContactRecord {
-        let mut r = test_point(ContactState::Stick, -1e-3);
-        (r.blocks, r.area, r.kn, r.ks, r.joint_stiffness) = ((1, 0), area, 1e6 * area, 1e6 * area, joint);
-        r
-    }
-
-    #[test]
-    fn a_joint_redetected_with_less_area_keeps_what_its_points_held() {
-        let previous = vec![point(0.5, true), point(0.5, true)];
-        let by_pair: FxHashMap<(usize, usize), Vec<usize>> = [((1, 0), vec![0, 1])].into_iter().collect();
-        let mut now = vec![point(0.1, true), point(0.15, true)];
-        keep_joint_area(&previous, &by_pair, &mut now);
-        assert!((now.iter().map(|r| r.area).sum::<f64>() - 1.0).abs() < 1e-12);
-        assert!((now[0].kn - 0.4e6).abs() < 1e-6 && (now[1].ks - 0.6e6).abs() < 1e-6);
-        // More area than before, or a penalty contact (its spring is no joint's), stays as found.
-        let mut more = vec![point(1.5, true)];
-        keep_joint_area(&previous, &by_pair, &mut more);
-        assert_eq!(more[0].area, 1.5);
-        let mut penalty = vec![point(0.1, false)];
-        keep_joint_area(&previous, &by_pair, &mut penalty);
-        assert_eq!(penalty[0].kn, 1e5);
-    }
 }

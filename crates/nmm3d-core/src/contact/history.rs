@@ -29,6 +29,10 @@ pub struct ContactHistory {
     /// `transfer::bound_missed_overlap`).
     #[serde(default)]
     pub missed_overlaps: u64,
+    /// Re-detections of a joint pair whose points were lifted to push no harder than before
+    /// (`joint_force`), so far.
+    #[serde(default)]
+    pub carried_forces: u64,
 }
 
 impl ContactHistory {
@@ -41,6 +45,7 @@ impl ContactHistory {
             locked: false,
             travel: Travel::default(),
             missed_overlaps: 0,
+            carried_forces: 0,
         }
     }
 }

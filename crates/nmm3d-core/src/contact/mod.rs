@@ -24,12 +24,12 @@
 //! lost when it opens.
 //!
 //! One concept per file: [`record`] (a point and its identity), [`transfer`] (what a new point
-//! inherits), [`rules`] (the open–close state rules), [`penalty`] (springs), [`friction`]
-//! (Coulomb friction), [`assemble`] (the contact terms of the system), [`detect`] (the detection
-//! driver), [`travel`] (which pairs need detecting again), [`history`] (all points of a run, the
-//! contact part of the run's state, and what the stepper asks of them), [`set`] (the surfaces
-//! they are detected on), on the surfaces of [`surface`] and the material points of
-//! [`point`].
+//! inherits), [`joint_force`] (what a joint pair found again keeps), [`rules`] (the open–close
+//! state rules), [`penalty`] (springs), [`friction`] (Coulomb friction), [`assemble`] (the
+//! contact terms of the system), [`detect`] (the detection driver), [`travel`] (which pairs
+//! need detecting again), [`history`] (all points of a run, the contact part of the run's state,
+//! and what the stepper asks of them), [`set`] (the surfaces they are detected on), on the
+//! surfaces of [`surface`] and the material points of [`point`].
 
 pub mod assemble;
 pub mod broad;
@@ -38,6 +38,7 @@ pub mod detect;
 pub mod facets;
 pub mod friction;
 pub mod history;
+pub mod joint_force;
 pub mod overlap_bound;
 pub mod penalty;
 pub mod point;

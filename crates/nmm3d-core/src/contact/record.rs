@@ -176,6 +176,9 @@ pub struct ContactParams {
     /// plane within it takes part with its part inside (1: off) [-].
     #[serde(default = "no_turned_face")]
     pub turned_face: f64,
+    /// `contact.carry_joint_force` (false in a run that predates it).
+    #[serde(default)]
+    pub carry_joint_force: bool,
 }
 
 /// `ContactParams::turned_face` of a run that predates it: off.
@@ -334,6 +337,7 @@ impl ContactParams {
             max_reclose: 2,
             slip_turn: 0.017_45,
             turned_face: 1.0,
+            carry_joint_force: false,
             touching: 1e-3 * tolerance,
             min_share: 0.05,
             merge: 10.0 * tolerance,

@@ -59,6 +59,9 @@ pub struct RunSummary {
     pub equilibrium_iterations: u64,
     /// Contact points found overlapping deeper than a detection lets one arise.
     pub missed_overlaps: u64,
+    /// Re-detections of a joint pair whose new points pushed harder than its previous ones and
+    /// were lifted to push as hard (`contact.carry_joint_force`).
+    pub carried_joint_forces: u64,
     /// Times the matrix pattern grew for newly closed contacts.
     pub pattern_rebuilds: u64,
     /// Entries of the last Cholesky factor (multigrid: of its operators, prolongators and coarsest factor).

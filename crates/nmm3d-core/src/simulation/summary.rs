@@ -47,6 +47,7 @@ pub(super) fn summary(sys: &System, whole: &State, stepper: &Stepper, rec: &Reco
         penalty_raises: run.penalty_raises,
         equilibrium_iterations: run.equilibrium_iterations,
         missed_overlaps: whole.contact.as_ref().map_or(0, |c| c.missed_overlaps),
+        carried_joint_forces: whole.contact.as_ref().map_or(0, |c| c.carried_forces),
         pattern_rebuilds: stepper.pattern_rebuilds(),
         factor_nonzeros: stepper.factor_nonzeros(),
         factorizations: counts.factorizations,

@@ -126,6 +126,7 @@ fn springs(sys: &System) -> impl Iterator<Item = (&str, usize)> {
 fn contacts(h: &ContactHistory, m: &Maps) -> ContactHistory {
     let mut out = ContactHistory::new(h.params);
     out.missed_overlaps = h.missed_overlaps;
+    out.carried_forces = h.carried_forces;
     out.records = h.records.iter().filter_map(|r| renumbered(r, m)).collect();
     out
 }

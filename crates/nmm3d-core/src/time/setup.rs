@@ -85,5 +85,6 @@ pub(super) fn contact_params(sys: &System) -> ContactParams {
         merge: k.merge_ratio * tolerance,
         damping_ratio: k.damping_ratio,
         turned_face: k.turned_face_angle.to_radians().cos(),
+        carry_joint_force: k.carry_joint_force,
     }
 }

@@ -23,6 +23,7 @@ use super::state::{State, StepperState};
 use super::step_control::{self, Verdict};
 use super::vectors::unbalanced_ratio;
 use super::vectors::{add_to, gather, lumped_mass, mass_times, scale, scatter_into, solver_error};
+use crate::contact::joint_force::Redetection;
 use crate::contact::{overlap_problems, ContactHistory, ContactRecord, ContactSurfaces};
 use crate::error::{Error, Result};
 use crate::scenario::AnalysisKind;
@@ -66,7 +67,7 @@ impl Stepper {
         let mut stepper = Self::on_model(sys);
         state.contact = stepper.contacts.as_ref().map(|_| ContactHistory::new(contact_params(sys)));
         if let (Some(c), Some(h)) = (stepper.contacts.as_mut(), state.contact.as_mut()) {
-            c.detect(sys, &state.motion, h, (true, f64::INFINITY, false));
+            c.detect(sys, &state.motion, h, (true, f64::INFINITY, Redetection::Total));
             let problems = overlap_problems(sys, h, sys.scenario.contact.overlap_tolerance * sys.covers.mesh().size);
             if !problems.is_empty() {
                 return Err(Error::Scenario { file: label.to_string(), problems });
@@ -160,7 +161,12 @@ impl Stepper {
                 h.refresh(sys, state);
             } else {
                 let reach = Self::reach(sys, (state, run), state.dt.min(dt_cap));
-                c.detect(sys, state, h, (false, reach, run.relaxing));
+                let rule = match (run.relaxing, h.params.carry_joint_force && dynamic(sys, run)) {
+                    (true, _) => Redetection::KeepArea,
+                    (false, true) => Redetection::CarryForce,
+                    (false, false) => Redetection::Total,
+                };
+                c.detect(sys, state, h, (false, reach, rule));
                 run.undetected = 0.0;
             }
         }

@@ -105,6 +105,10 @@ pub struct ContactSpec {
     /// it when it faces the contact plane within this angle (0: off — only facets wholly in the
     /// band) [°] (addition).
     pub turned_face_angle: f64,
+    /// In a dynamic run, a joint pair on its own stiffness found again pushing harder than its
+    /// points did pushes only as hard (its normal force carried across the detection, as 3DEC's
+    /// incremental one is); false: the total force of the points as found (addition).
+    pub carry_joint_force: bool,
 }
 
 impl Default for ContactSpec {
@@ -131,6 +135,7 @@ impl Default for ContactSpec {
             merge_ratio: 10.0,
             damping_ratio: 0.0,
             turned_face_angle: 0.0,
+            carry_joint_force: true,
         }
     }
 }
