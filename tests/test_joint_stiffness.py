@@ -7,6 +7,7 @@ covers, in `crates/nmm3d-core/tests/verification_joint_stiffness.rs`.
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 import nmm3d
@@ -37,8 +38,9 @@ def test_a_shear_stiffness_needs_a_normal_one(tmp_path):
 
 def soft_slope_events(tmp_path, carry: bool):
     """Thesis case A (φ = 10°) on joints of 10 MPa/m for 0.5 s: the layer starts to slide and
-    its blocks close on each other by centimetres. Returns the most negative contact-event
-    account [J], the largest work of the loads [J] and the lifts counted."""
+    its blocks close on each other by centimetres. Returns the energy its contact events made
+    (the steps whose contact-event account fell, summed) [J], the largest work of the loads [J]
+    and the lifts counted."""
     sets = [
         "joint.rock_joint.friction_angle=10",
         "joint.rock_joint.normal_stiffness=1e7",
@@ -48,15 +50,16 @@ def soft_slope_events(tmp_path, carry: bool):
     ]
     run = nmm3d.load(EXAMPLES / "rock_slope.toml", sets).run(out=tmp_path / f"carry_{carry}")
     d = read_columns(run.directory / "diagnostics.csv")
-    return min(d["contact_event_dissipation"]), max(d["external_work"]), run.summary["carried_joint_forces"]
+    steps = np.diff(d["contact_event_dissipation"], prepend=0.0)
+    return -steps[steps < 0].sum(), max(d["external_work"]), run.summary["carried_joint_forces"]
 
 
 def test_soft_joints_found_again_make_no_energy_when_their_force_is_carried(tmp_path):
     """Springs carrying the total force k_n A g set spring energy at once when a detection finds
-    a pair centimetres deep with other points or more area; the contact events then book it as
-    negative dissipation (measured: −34 kJ against 0.44 MJ of gravity's work). Carried across
-    the detection (the default) they make none (−30 J)."""
+    a pair centimetres deep with other points or more area, or a corner arrives deep in a face
+    within a step; the contact events book it as negative dissipation (measured: 37 kJ made
+    against 0.44 MJ of gravity's work). Carried across (the default) they make 0.26 kJ."""
     made, work, lifts = soft_slope_events(tmp_path, carry=True)
-    assert made > -1e-3 * work and lifts > 0, (made, work, lifts)
+    assert made < 1e-3 * work and lifts > 0, (made, work, lifts)
     made, work, lifts = soft_slope_events(tmp_path, carry=False)
-    assert made < -0.01 * work and lifts == 0, (made, work, lifts)
+    assert made > 0.05 * work and lifts == 0, (made, work, lifts)

@@ -165,12 +165,14 @@ impl ContactSurfaces {
     /// of the pair within the transfer distance. Each is added as a point of the step's start
     /// (its gap measured at `start`), so the step can be solved again with it; without it the
     /// corner would pass into the face unresisted and be found deep at the next detection.
-    /// Returns the points added (to `h` too).
+    /// Returns the points added (to `h` too). `carry`: an arrival on a joint's own stiffness
+    /// pushes from where it was at the start ([`joint_force::arrived`]; dynamic runs).
     pub fn arrivals(
         &mut self,
         sys: &System,
         (start, end): (&Motion, &Motion),
         h: &mut ContactHistory,
+        carry: bool,
     ) -> Vec<ContactRecord> {
         let clock = Instant::now();
         let current: Vec<_> = self.pieces.par_iter().map(|p| p.current(sys, end)).collect();
@@ -207,6 +209,9 @@ impl ContactSurfaces {
                 inherit(&mut r, &h.records, Some(&same), &p, h.locked);
                 if bound_missed_overlap(&mut r, missed_floor(&h.records, Some(&same), reach)) {
                     h.missed_overlaps += 1;
+                }
+                if carry && joint_force::arrived(&mut r) {
+                    h.carried_forces += 1;
                 }
                 added.push(r);
             }

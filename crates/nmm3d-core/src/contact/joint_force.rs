@@ -1,8 +1,8 @@
-//! What a joint on its own stiffness keeps when its pair is detected again.
+//! What a joint on its own stiffness keeps when its pair is detected again, or a point arrives.
 //!
 //! Springs on a joint's stiffness (Pa/m × area) carry the total force k_n A_p g_p of each point,
 //! so whatever a re-detection changes — other points, other areas — changes the force at once.
-//! Two rules bound that (`docs/theory/contact.md`, *Joint stiffness*):
+//! Three rules bound that (`docs/theory/contact.md`, *Joint stiffness*):
 //!
 //! * while the initial equilibrium settles, a joint found with less area than its points had
 //!   keeps their area ([`Redetection::KeepArea`]);
@@ -14,7 +14,9 @@
 //!   sub-contacts carry their normal force incrementally (ΔF_n = −k_n ΔU_n A_c, Itasca 3DEC
 //!   manual, *Theory*: contact mechanics), and a new geometry takes only the increments; here the
 //!   springs keep their stiffness, so further closure is resisted as before, and a point that
-//!   opens hands its share of the level back (`ContactRecord::relax_raised`).
+//!   opens hands its share of the level back (`ContactRecord::relax_raised`);
+//! * in a dynamic run, a point that arrives within a step already overlapping at its start
+//!   pushes from there ([`arrived`]).
 
 use rustc_hash::FxHashMap;
 
@@ -105,6 +107,21 @@ fn carry_force(before: f64, now: &[usize], records: &mut [ContactRecord]) -> boo
     true
 }
 
+/// An arrival (a point the lagged verification found within a step, added as a point of the
+/// step's start) on a joint's own stiffness that already overlapped at the start pushes from
+/// there: the overlap goes into its zero level. It pushed nothing while it was unseen, and a
+/// spring set at that overlap would give it back at once — on the thesis slope on 10 MPa/m joints
+/// such arrivals, found centimetres deep at a block's corner, made 0.56 MJ in 3 s after the
+/// re-detected pairs carried their force. True if it was lifted.
+pub(super) fn arrived(r: &mut ContactRecord) -> bool {
+    if !(r.joint_stiffness && closed(r) && r.gap0 < 0.0) {
+        return false;
+    }
+    r.shift_zero_level(r.gap0);
+    r.limit = r.coulomb_limit(r.gap0);
+    true
+}
+
 fn closed(r: &ContactRecord) -> bool {
     r.state != ContactState::Open
 }
@@ -188,5 +205,21 @@ mod tests {
         assert_eq!(redetected(Redetection::CarryForce, &previous, &pair(), &mut now), 1);
         assert!((now[1].normal_force() - 10e3).abs() < 1e-6);
         assert_eq!(now[0].gap0, -0.1);
+    }
+
+    #[test]
+    fn an_arrival_overlapping_at_the_start_pushes_from_there() {
+        let mut r = point(1.0, true, -0.02);
+        assert!(arrived(&mut r));
+        assert_eq!((r.gap0, r.raised, r.kn), (0.0, -0.02, 1e6), "no force at the start, the spring as stiff");
+        // Touching or apart at the start, open, or a penalty contact: as found.
+        for (joint, gap, state) in
+            [(true, 1e-3, ContactState::Stick), (true, -0.02, ContactState::Open), (false, -0.02, ContactState::Stick)]
+        {
+            let mut r = point(1.0, joint, gap);
+            r.state = state;
+            assert!(!arrived(&mut r));
+            assert_eq!(r.gap0, gap);
+        }
     }
 }

@@ -97,7 +97,7 @@ fn deep_overlap(sys: &System, max_penetration: f64) -> String {
     if !joints || max_penetration <= DEEP_OVERLAP * size {
         return String::new();
     }
-    format!("; the blocks overlapped by up to {max_penetration:.3} m ({:.0} % of the cover size) on joints of their own stiffness: springs that soft let blocks that strike each other pass far into each other, and contacts that deep are no joint's — the joint stiffness is a closed joint's, too soft for impacts (docs/theory/contact.md, turned faces in a run)", 100.0 * max_penetration / size)
+    format!("; the blocks overlapped by up to {max_penetration:.3} m ({:.0} % of the cover size) on joints of their own stiffness: springs that soft let blocks that strike each other pass far into each other, and contacts that deep are no joint's — the joint stiffness is a closed joint's, too soft for impacts (docs/theory/contact.md, a joint's force carried across a detection)", 100.0 * max_penetration / size)
 }
 
 /// Overlap, as a fraction of the cover size, beyond which the warnings of energy from nowhere

@@ -266,8 +266,15 @@ impl Stepper {
             // it, overlaps the step started with and pushed out with energy are bounded.
             let moved = contact.as_ref().is_some_and(|h| run.undetected + dmax >= h.params.tolerance);
             let detect = moved && arrivals < sys.scenario.contact.arrival_rounds;
+            let carry = contact.as_ref().is_some_and(|h| h.params.carry_joint_force) && dynamic;
             if settled
-                && self.arrivals(sys, (state, contact.as_mut()), &d, start.records.as_mut(), (push_budget, detect))
+                && self.arrivals(
+                    sys,
+                    (state, contact.as_mut()),
+                    &d,
+                    start.records.as_mut(),
+                    (push_budget, detect, carry),
+                )
             {
                 arrivals += 1;
                 continue;

@@ -103,13 +103,14 @@ impl Stepper {
     /// the pattern, and the step is solved again (`detect`: lagged verification is due). So is
     /// it, first, when points that started the step overlapping with no force gave the blocks
     /// more than `push_budget` [J] pushing that out ([`ContactHistory::bound_pushed_overlaps`]).
+    /// `carry`: joints carry their force (`contact.carry_joint_force` in a dynamic step).
     pub(super) fn arrivals(
         &mut self,
         sys: &System,
         (state, contact): (&Motion, Option<&mut ContactHistory>),
         d: &[Vec3],
         saved: Option<&mut Vec<ContactRecord>>,
-        (push_budget, detect): (f64, bool),
+        (push_budget, detect, carry): (f64, bool, bool),
     ) -> bool {
         let (Some(c), Some(h), Some(saved)) = (self.contacts.as_mut(), contact, saved) else { return false };
         if h.bound_pushed_overlaps(saved, self.newmark.gamma, push_budget) > 0 {
@@ -120,7 +121,7 @@ impl Stepper {
         }
         let mut end = state.clone();
         end.u.iter_mut().zip(d).for_each(|(u, d)| *u += d);
-        let added = c.arrivals(sys, (state, &end), h);
+        let added = c.arrivals(sys, (state, &end), h, carry);
         if added.is_empty() {
             return false;
         }
