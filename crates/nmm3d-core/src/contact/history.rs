@@ -29,8 +29,8 @@ pub struct ContactHistory {
     /// `transfer::bound_missed_overlap`).
     #[serde(default)]
     pub missed_overlaps: u64,
-    /// Re-detections of a joint pair whose points were lifted to push no harder than before
-    /// (`joint_force`), so far.
+    /// Joint pairs found again whose points were lifted to push no harder than before, and
+    /// arrivals lifted to push from where they were at the step's start (`joint_force`), so far.
     #[serde(default)]
     pub carried_forces: u64,
 }

@@ -111,7 +111,7 @@ fn carry_force(before: f64, now: &[usize], records: &mut [ContactRecord]) -> boo
 /// step's start) on a joint's own stiffness that already overlapped at the start pushes from
 /// there: the overlap goes into its zero level. It pushed nothing while it was unseen, and a
 /// spring set at that overlap would give it back at once — on the thesis slope on 10 MPa/m joints
-/// such arrivals, found centimetres deep at a block's corner, made 0.56 MJ in 3 s after the
+/// such arrivals, found centimetres deep at a block's corner, made 0.6 MJ in 3 s after the
 /// re-detected pairs carried their force. True if it was lifted.
 pub(super) fn arrived(r: &mut ContactRecord) -> bool {
     if !(r.joint_stiffness && closed(r) && r.gap0 < 0.0) {

@@ -59,8 +59,8 @@ pub struct RunSummary {
     pub equilibrium_iterations: u64,
     /// Contact points found overlapping deeper than a detection lets one arise.
     pub missed_overlaps: u64,
-    /// Re-detections of a joint pair whose new points pushed harder than its previous ones and
-    /// were lifted to push as hard (`contact.carry_joint_force`).
+    /// Joint pairs found again whose new points pushed harder than their previous ones, lifted to
+    /// push as hard, and arrivals lifted to push from the step's start (`contact.carry_joint_force`).
     pub carried_joint_forces: u64,
     /// Times the matrix pattern grew for newly closed contacts.
     pub pattern_rebuilds: u64,
