@@ -166,7 +166,8 @@ impl ContactSurfaces {
     /// (its gap measured at `start`), so the step can be solved again with it; without it the
     /// corner would pass into the face unresisted and be found deep at the next detection.
     /// Returns the points added (to `h` too). `carry`: an arrival on a joint's own stiffness
-    /// pushes from where it was at the start ([`joint_force::arrived`]; dynamic runs).
+    /// deep at the start pushes from the transfer distance ([`joint_force::arrived`]; dynamic
+    /// runs).
     pub fn arrivals(
         &mut self,
         sys: &System,
@@ -210,7 +211,7 @@ impl ContactSurfaces {
                 if bound_missed_overlap(&mut r, missed_floor(&h.records, Some(&same), reach)) {
                     h.missed_overlaps += 1;
                 }
-                if carry && joint_force::arrived(&mut r) {
+                if carry && joint_force::arrived(&mut r, reach) {
                     h.carried_forces += 1;
                 }
                 added.push(r);
