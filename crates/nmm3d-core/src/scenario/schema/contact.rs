@@ -107,7 +107,8 @@ pub struct ContactSpec {
     pub turned_face_angle: f64,
     /// In a dynamic run, a joint pair on its own stiffness found again pushing harder than its
     /// points did pushes only as hard (its normal force carried across the detection, as 3DEC's
-    /// incremental one is); false: the total force of the points as found (addition).
+    /// incremental one is), and a point arriving within a step deeper than the transfer distance
+    /// pushes from there; false: the total force of the points as found (addition).
     pub carry_joint_force: bool,
 }
 
