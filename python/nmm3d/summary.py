@@ -169,7 +169,6 @@ class RunSummary:
     penalty_raises: int
     equilibrium_iterations: int
     missed_overlaps: int
-    carried_joint_forces: int
     pattern_rebuilds: int
     factor_nonzeros: int
     factorizations: int
@@ -203,6 +202,9 @@ class RunSummary:
     #: the block closest to (or past) the free-fall bound of a dynamic run under gravity;
     #: ``None`` for a static run, without gravity, or in summaries before it
     free_fall: FreeFallSummary | None = None
+    #: joint pairs found again and arrivals whose force was carried (``contact.carry_joint_force``);
+    #: 0 in summaries before it
+    carried_joint_forces: int = 0
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> RunSummary:

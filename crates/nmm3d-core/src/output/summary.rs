@@ -59,9 +59,6 @@ pub struct RunSummary {
     pub equilibrium_iterations: u64,
     /// Contact points found overlapping deeper than a detection lets one arise.
     pub missed_overlaps: u64,
-    /// Joint pairs found again whose new points pushed harder than their previous ones, lifted to
-    /// push as hard, and arrivals lifted to push from the step's start (`contact.carry_joint_force`).
-    pub carried_joint_forces: u64,
     /// Times the matrix pattern grew for newly closed contacts.
     pub pattern_rebuilds: u64,
     /// Entries of the last Cholesky factor (multigrid: of its operators, prolongators and coarsest factor).
@@ -117,6 +114,11 @@ pub struct RunSummary {
     /// under gravity; `null` for a static run or without gravity.
     #[serde(default)]
     pub free_fall: Option<FreeFallSummary>,
+    /// Joint pairs found again whose new points pushed harder than their previous ones, lifted to
+    /// push as hard, and arrivals lifted to push from the transfer distance
+    /// (`contact.carry_joint_force`; 0 in summaries before it).
+    #[serde(default)]
+    pub carried_joint_forces: u64,
 }
 
 /// The free-fall bound (`time/free_fall.rs`): no block's centre of mass faster than a body
