@@ -21,6 +21,7 @@
 use rustc_hash::FxHashMap;
 
 use super::record::{ContactRecord, ContactState};
+use super::transfer::bound_missed_overlap;
 
 /// What a re-detected joint pair keeps from its previous points.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -117,12 +118,7 @@ fn carry_force(before: f64, now: &[usize], records: &mut [ContactRecord]) -> boo
 /// neighbours share: lifted from zero, the points a wedge slid onto on a meshed rock carried too
 /// little and it swayed 0.02 m/s off its path. True if it was lifted.
 pub(super) fn arrived(r: &mut ContactRecord, reach: f64) -> bool {
-    if !(r.joint_stiffness && closed(r) && r.gap0 < -reach) {
-        return false;
-    }
-    r.shift_zero_level(r.gap0 + reach);
-    r.limit = r.coulomb_limit(r.gap0);
-    true
+    r.joint_stiffness && closed(r) && bound_missed_overlap(r, -reach)
 }
 
 fn closed(r: &ContactRecord) -> bool {
@@ -135,8 +131,7 @@ fn lifted_force(r: &ContactRecord, depth: f64) -> f64 {
     if !closed(r) {
         return 0.0;
     }
-    let gap = r.gap0 + depth.min((-r.gap0).max(0.0));
-    (r.normal.dot(&r.preload) - r.kn * gap).max(0.0)
+    r.normal_force_at(r.gap0 + depth.min((-r.gap0).max(0.0)))
 }
 
 #[cfg(test)]

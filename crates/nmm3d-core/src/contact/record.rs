@@ -251,7 +251,12 @@ impl ContactRecord {
 
     /// Compressive normal force on A after the last solve, N = n·P − k_n g, at least 0 [N].
     pub fn normal_force(&self) -> f64 {
-        (self.normal.dot(&self.preload) - self.kn * self.gap).max(0.0)
+        self.normal_force_at(self.gap)
+    }
+
+    /// The same at gap `gap` [m] [N].
+    pub fn normal_force_at(&self, gap: f64) -> f64 {
+        (self.normal.dot(&self.preload) - self.kn * gap).max(0.0)
     }
 }
 
