@@ -69,6 +69,12 @@ fn dominos_resume_bit_identically() {
     let text = common::with(&common::example("dominos.toml"), "duration = 5.0", "duration = 0.1");
     let mid = stopped_and_resumed_equals_whole("checkpoint_dominos", &text, 37);
     assert!(holds_contact_points(&mid), "the checkpoint holds contact points");
+    // Standing dominos keep their tangent: shares made at poses of earlier steps are restored
+    // from them (`time::kept_tangent`), and the resume still continues bit for bit.
+    let t = &mid.stepper.tangent;
+    assert!(!t.elements.is_empty(), "the dominos' MEs have shares (the fixed floor's none)");
+    let earlier = t.elements.iter().zip(&t.rotations).filter(|(&e, r)| **r != mid.state.motion.rotations[e as usize]);
+    assert!(earlier.count() > t.elements.len() / 2, "most shares were made at an earlier step");
 }
 
 #[test]

@@ -95,6 +95,16 @@ impl Assembler {
             }
         }
     }
+
+    /// The positions in the global values that element `e`'s block adds to.
+    pub fn positions(&self, e: usize) -> impl Iterator<Item = usize> + '_ {
+        self.targets[self.offsets[e]..self.offsets[e + 1]].iter().filter(|&&p| p != SKIP).map(|&p| p as usize)
+    }
+
+    /// Set the values element `e` adds to to zero.
+    pub fn zero(&self, values: &mut [f64], e: usize) {
+        self.positions(e).for_each(|p| values[p] = 0.0);
+    }
 }
 
 /// Tᵀ L T for a (3n)² block L and scalar weights T (n × m), applied per 3 × 3 block.

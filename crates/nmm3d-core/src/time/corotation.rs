@@ -92,6 +92,11 @@ fn material(sys: &System, e: usize) -> &crate::model::Elastic {
     &sys.geometry.materials[sys.geometry.blocks[sys.covers.elements[e].block].material]
 }
 
+/// Young's modulus of ME `e`'s material [Pa].
+pub fn young(sys: &System, e: usize) -> f64 {
+    material(sys, e).young
+}
+
 /// Symmetric mean strain of ME `e` from its local displacements.
 fn mean_strain(sys: &System, e: usize, u: &[Vec3]) -> Mat3 {
     let grad: Mat3 = u.iter().zip(&sys.kernel(e).mean_gradient).map(|(ua, g)| ua * g.transpose()).sum();
@@ -143,49 +148,56 @@ fn semidefinite(a: &Mat3) -> bool {
         && a.determinant() >= 0.0
 }
 
-/// Internal force of ME `e` per cover, and the tangent (row-major (3n)²): the rotated elastic
-/// stiffness plus the geometric (stress) stiffness of the tensile part of the ME's stress,
-/// k_ab = V (mean ∇w_a) · σ⁺ (mean ∇w_b) I. Tension stiffens membranes and
-/// bent plates (large deflections converge); compression is left out so the matrix stays
-/// positive definite. The tangent only steers the iteration: the force is exact either way.
-pub fn internal_force_and_tangent(sys: &System, state: &Motion, e: usize, r: &Mat3) -> (Vec<Vec3>, Vec<f64>) {
-    forces(sys, state, e, r, true)
-}
-
-/// Internal force of ME `e` per cover alone (as [`internal_force_and_tangent`]).
+/// Internal force of ME `e` per cover, f_a = R_e(Σ_b K_ab u_b^loc + f⁰_a) (plus the
+/// Green–Lagrange correction).
 pub fn internal_force(sys: &System, state: &Motion, e: usize, r: &Mat3) -> Vec<Vec3> {
-    forces(sys, state, e, r, false).0
+    force(sys, state, e, r, &local_displacements(sys, state, e, r))
 }
 
-/// The force, and the tangent when `with_tangent` (empty otherwise).
-fn forces(sys: &System, state: &Motion, e: usize, r: &Mat3, with_tangent: bool) -> (Vec<Vec3>, Vec<f64>) {
+/// [`internal_force`] and the tensile part σ⁺ of the ME's co-rotated stress, which the
+/// geometric part of its tangent takes ([`tangent`]).
+pub fn internal_force_and_tension(sys: &System, state: &Motion, e: usize, r: &Mat3) -> (Vec<Vec3>, Mat3) {
+    let u = local_displacements(sys, state, e, r);
+    (force(sys, state, e, r, &u), tensile_part(&local_stress(sys, e, &u)))
+}
+
+fn force(sys: &System, state: &Motion, e: usize, r: &Mat3, u: &[Vec3]) -> Vec<Vec3> {
     let k = sys.kernel(e);
     let n = k.n;
-    let u = local_displacements(sys, state, e, r);
-    let tension = if with_tangent { tensile_part(&local_stress(sys, e, &u)) } else { Mat3::zeros() };
-    let large = large_strain_correction(sys, state, e, r, &u);
+    let large = large_strain_correction(sys, state, e, r, u);
     let mut f = vec![Vec3::zeros(); n];
-    let mut t = vec![0.0; if with_tangent { 9 * n * n } else { 0 }];
     for a in 0..n {
         let mut fa = if sys.initial_forces[e].is_empty() { Vec3::zeros() } else { sys.initial_forces[e][a] };
+        for b in 0..n {
+            fa += block(&k.stiffness, n, a, b) * u[b];
+        }
+        f[a] = r * fa + large.as_ref().map_or(Vec3::zeros(), |c| c * k.mean_gradient[a]);
+    }
+    f
+}
+
+/// Tangent of ME `e` (row-major (3n)²) at rotation `r` with tensile stress `tension`: the
+/// rotated elastic stiffness plus the geometric (stress) stiffness of the tensile part,
+/// k_ab = V (mean ∇w_a) · σ⁺ (mean ∇w_b) I. Tension stiffens membranes and bent plates (large
+/// deflections converge); compression is left out so the matrix stays positive definite. The
+/// tangent only steers the iteration: the force is exact either way.
+pub fn tangent(sys: &System, e: usize, r: &Mat3, tension: &Mat3) -> Vec<f64> {
+    let k = sys.kernel(e);
+    let n = k.n;
+    let mut t = vec![0.0; 9 * n * n];
+    for a in 0..n {
         let ga = tension * k.mean_gradient[a];
         for b in 0..n {
-            let kab = block(&k.stiffness, n, a, b);
-            fa += kab * u[b];
-            if !with_tangent {
-                continue;
-            }
             let geometric = k.volume * ga.dot(&k.mean_gradient[b]);
-            let rot = r * kab * r.transpose() + geometric * Mat3::identity();
+            let rot = r * block(&k.stiffness, n, a, b) * r.transpose() + geometric * Mat3::identity();
             for i in 0..3 {
                 for j in 0..3 {
                     t[(3 * a + i) * 3 * n + 3 * b + j] = rot[(i, j)];
                 }
             }
         }
-        f[a] = r * fa + large.as_ref().map_or(Vec3::zeros(), |c| c * k.mean_gradient[a]);
     }
-    (f, t)
+    t
 }
 
 /// Green–Lagrange correction V (F̄ S(Ē) − R σ_lin) (per unit mean gradient) of ME `e`: the

@@ -15,6 +15,7 @@ pub mod free_fall;
 mod gain;
 mod held;
 pub mod integrator;
+pub mod kept_tangent;
 mod newton;
 mod reach;
 pub mod report;

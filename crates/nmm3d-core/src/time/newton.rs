@@ -56,12 +56,13 @@ impl Stepper {
         contacts: bool,
     ) -> (Vec<Vec3>, bool) {
         if !static_newton(sys, run, contacts) {
-            return (self.assembled(sys, state), false);
+            return (self.assembled(sys, state, super::stepper::dynamic(sys, run)), false);
         }
         let prev = run.newton;
         let reusable = sys.scenario.analysis.factor_reuse && self.solver.source_values().is_some();
         let may_keep = !prev.full && reusable && prev.last.is_some();
-        let mut residual = if may_keep { self.start_forces(sys, state, false) } else { self.assembled(sys, state) };
+        let mut residual =
+            if may_keep { self.start_forces(sys, state, None) } else { self.assembled(sys, state, false) };
         let mut ratio = unbalanced_ratio(sys, run, &residual);
         let mut keep = false;
         if let Some(last) = prev.last {
@@ -70,7 +71,7 @@ impl Stepper {
             keep = may_keep && !run.newton.full && ratio <= KEEP_CONTRACTION * last;
         }
         if may_keep && !keep {
-            residual = self.assembled(sys, state);
+            residual = self.assembled(sys, state, false);
             ratio = unbalanced_ratio(sys, run, &residual);
         }
         // This iteration as the next judges it (a static step is accepted or ends the run; its

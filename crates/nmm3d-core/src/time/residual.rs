@@ -5,28 +5,34 @@ use nmm3d_geom::{Mat3, Vec3};
 use rayon::prelude::*;
 
 use super::corotation;
+use super::kept_tangent::{KeptTangent, Pose};
 use super::stepper::Stepper;
 use crate::state::Motion;
 use crate::system::System;
 
-/// Elements whose local blocks are computed together (in parallel) before they are scattered.
+/// Elements whose forces are computed together (in parallel) before they are scattered.
 const ELEMENT_CHUNK: usize = 2048;
 
 impl Stepper {
     /// Tangent into `self.tangent`, unbalanced force per cover returned, the loads into
     /// `self.loads` (the water pressure at the rotations of the last step); updates rotations.
-    pub fn assemble(&mut self, sys: &System, state: &mut Motion) -> Vec<Vec3> {
-        self.tangent.iter_mut().for_each(|v| *v = 0.0);
-        self.start_forces(sys, state, true)
+    /// `keep`: blocks that have not turned keep their tangent ([`KeptTangent`]; dynamic steps).
+    pub fn assemble(&mut self, sys: &System, state: &mut Motion, keep: bool) -> Vec<Vec3> {
+        self.start_forces(sys, state, Some(keep))
     }
 
     /// The unbalanced force at the start of a step (the loads into `self.loads`, the rotations
-    /// updated), the tangent into `self.tangent` if `with_tangent`.
-    pub(super) fn start_forces(&mut self, sys: &System, state: &mut Motion, with_tangent: bool) -> Vec<Vec3> {
+    /// updated), the tangent into `self.tangent` if `tangent` (`Some(keep)`, see
+    /// [`Self::assemble`]).
+    pub(super) fn start_forces(&mut self, sys: &System, state: &mut Motion, tangent: Option<bool>) -> Vec<Vec3> {
         let mut residual = sys.external.clone();
         super::water::add_water(sys, state, &mut residual);
         self.loads.clone_from(&residual);
-        let tangent = with_tangent.then_some(&mut self.tangent);
+        let angle = sys.scenario.analysis.tangent_keep_angle;
+        let tangent = tangent.map(|keep| Tangent {
+            values: &mut self.tangent,
+            kept: self.kept.as_mut().map(|k| (k, if keep { angle } else { 0.0 })),
+        });
         for (e, r) in subtract_inner_forces(sys, state, &mut residual, tangent) {
             state.rotations[e] = r;
         }
@@ -35,10 +41,10 @@ impl Stepper {
 
     /// [`Self::assemble`], or what `initialize` assembled if the displacements are still the
     /// ones it saw (a run's first step: one element loop fewer).
-    pub(super) fn assembled(&mut self, sys: &System, state: &mut Motion) -> Vec<Vec3> {
+    pub(super) fn assembled(&mut self, sys: &System, state: &mut Motion, keep: bool) -> Vec<Vec3> {
         match self.fresh.take() {
             Some((u, residual)) if u == state.u => residual,
-            _ => self.assemble(sys, state),
+            _ => self.assemble(sys, state, keep),
         }
     }
 
@@ -51,48 +57,69 @@ impl Stepper {
     }
 }
 
+/// Where the tangent goes: its values, and the kept elements' part with the angle beyond which
+/// a block's part is made afresh (0: every part whose MEs moved at all).
+struct Tangent<'a> {
+    values: &'a mut Vec<f64>,
+    kept: Option<(&'a mut KeptTangent, f64)>,
+}
+
 /// Subtract the forces of the co-rotated elements, the penalty constraints and the bolts at
-/// `state` from `residual`, adding their stiffness to `tangent` if given; the elements'
-/// rotations returned.
+/// `state` from `residual`, their stiffness into `tangent` if given; the elements' rotations
+/// returned.
 fn subtract_inner_forces(
     sys: &System,
     state: &Motion,
     residual: &mut [Vec3],
-    mut tangent: Option<&mut Vec<f64>>,
+    tangent: Option<Tangent>,
 ) -> Vec<(usize, Mat3)> {
     // Fixed blocks' covers cannot move; their forces would go nowhere.
     let moving: Vec<usize> =
         (0..sys.covers.elements.len()).filter(|&e| !sys.geometry.blocks[sys.covers.elements[e].block].fixed).collect();
     let mut rotations = Vec::with_capacity(moving.len());
-    let with_tangent = tangent.is_some();
+    let (with_tangent, whole) = (tangent.is_some(), tangent.as_ref().is_some_and(|t| t.kept.is_none()));
+    let (mut values, mut kept) = match tangent {
+        Some(Tangent { values, kept }) => (Some(values), kept),
+        None => (None, None),
+    };
+    if whole {
+        values.iter_mut().for_each(|v| v.fill(0.0));
+    }
+    let mut poses: Vec<Pose> = Vec::with_capacity(if kept.is_some() { moving.len() } else { 0 });
     // The local blocks of a chunk in parallel, scattered in element order: the same sums in the
     // same order whatever the thread count (bit-identical results), and memory for one chunk's
     // blocks only.
     for chunk in moving.chunks(ELEMENT_CHUNK) {
-        let local: Vec<(Mat3, Vec<Vec3>, Vec<f64>)> = chunk
+        let local: Vec<(Mat3, Vec<Vec3>, Mat3, Vec<f64>)> = chunk
             .par_iter()
             .map(|&e| {
                 let f = corotation::deformation_gradient(sys, state, e);
                 let r = corotation::rotation(&f, &state.rotations[e]);
-                let (fint, t) = match with_tangent {
-                    true => corotation::internal_force_and_tangent(sys, state, e, &r),
-                    false => (corotation::internal_force(sys, state, e, &r), Vec::new()),
-                };
-                (r, fint, t)
+                if !with_tangent {
+                    return (r, corotation::internal_force(sys, state, e, &r), Mat3::zeros(), Vec::new());
+                }
+                let (fint, tension) = corotation::internal_force_and_tension(sys, state, e, &r);
+                let t = if whole { corotation::tangent(sys, e, &r, &tension) } else { Vec::new() };
+                (r, fint, tension, t)
             })
             .collect();
-        for (&e, (r, fint, t)) in chunk.iter().zip(local) {
+        for (&e, (r, fint, tension, t)) in chunk.iter().zip(local) {
             rotations.push((e, r));
-            if let Some(tangent) = tangent.as_deref_mut() {
-                sys.assembler.add(tangent, e, &t);
+            match values.as_deref_mut() {
+                Some(values) if whole => sys.assembler.add(values, e, &t),
+                Some(_) => poses.push((r, tension)),
+                None => {}
             }
             for (a, &c) in sys.covers.elements[e].covers.iter().enumerate() {
                 residual[c] -= fint[a];
             }
         }
     }
-    add_penalties(sys, state, residual, tangent.as_deref_mut());
-    super::bolts::add_bolts(sys, state, residual, tangent);
+    if let (Some(values), Some((kept, angle))) = (values.as_deref_mut(), kept.as_mut()) {
+        values.copy_from_slice(kept.update(sys, &moving, &poses, *angle));
+    }
+    add_penalties(sys, state, residual, values.as_deref_mut());
+    super::bolts::add_bolts(sys, state, residual, values);
     rotations
 }
 

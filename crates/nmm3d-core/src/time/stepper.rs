@@ -17,6 +17,7 @@ use super::energy::Energy;
 use super::free_fall::FreeFallPlan;
 use super::gain;
 use super::integrator::{Newmark, StepCoefficients};
+use super::kept_tangent::KeptTangent;
 use super::report::{PhaseTimes, StepReport};
 use super::setup::{contact_params, solver};
 use super::state::{State, StepperState};
@@ -41,6 +42,8 @@ pub struct Stepper {
     pub(super) contacts: Option<ContactSurfaces>,
     pub(super) newmark: Newmark,
     pub(super) tangent: Vec<f64>,
+    /// The elements' tangent kept per block while it does not turn (dynamic analyses).
+    pub(super) kept: Option<KeptTangent>,
     pub(super) values: Vec<f64>,
     /// Time per phase so far.
     pub times: PhaseTimes,
@@ -87,6 +90,7 @@ impl Stepper {
             contacts: if sys.scenario.contact.enabled { ContactSurfaces::new(sys) } else { None },
             newmark: Newmark::from_analysis(&sys.scenario.analysis),
             tangent: vec![0.0; nnz],
+            kept: KeptTangent::new(sys),
             values: vec![0.0; nnz],
             times: PhaseTimes::default(),
             cuts: Vec::new(),
@@ -110,7 +114,7 @@ impl Stepper {
     /// force (the first step takes the assembly, `assembled`).
     pub(super) fn initial_residual(&mut self, sys: &System, whole: &mut State) -> Vec<Vec3> {
         let (state, run) = (&mut whole.motion, &whole.stepper);
-        let mut residual = self.assemble(sys, state);
+        let mut residual = self.assemble(sys, state, false);
         self.fresh = Some((state.u.clone(), residual.clone()));
         let base = shaking(sys, run).then(|| sys.base_force(sys.scenario.seismic.acceleration_after(state.time)));
         add_to(&mut residual, base.as_deref());

@@ -106,6 +106,11 @@ pub struct Analysis {
     /// its last iterate if the last correction moved it by at most this fraction of the step's
     /// largest displacement, else its linear increment [-] (addition).
     pub step_equilibrium_stall: f64,
+    /// A dynamic step keeps a block's tangent while none of its MEs has turned by more than this
+    /// angle (and its tensile stress has not changed by more than this fraction of Young's
+    /// modulus) since the tangent was made: the tangent only steers the solve, the forces are
+    /// exact (0: every tangent made afresh at every step) [rad] (addition).
+    pub tangent_keep_angle: f64,
     /// Strain measure: "corotational" (small strain in each ME's rotated frame) or
     /// "green_lagrange" (St Venant–Kirchhoff for large strains).
     pub strain_measure: StrainMeasure,
@@ -238,6 +243,7 @@ impl Default for Analysis {
             step_equilibrium_iterations: 4,
             step_equilibrium_tolerance: 1e-4,
             step_equilibrium_stall: 1e-2,
+            tangent_keep_angle: 1e-6,
             initial_equilibrium: InitialEquilibrium::Off,
             settle_dt: 1.0,
             checkpoint_interval: 600.0,

@@ -80,6 +80,9 @@ pub(super) fn analysis(c: &mut Checker, a: &Analysis) {
     if !(a.step_equilibrium_stall >= a.step_equilibrium_tolerance && a.step_equilibrium_stall < 1.0) {
         c.fail("analysis.step_equilibrium_stall", "must lie in [step_equilibrium_tolerance, 1)");
     }
+    if !(a.tangent_keep_angle >= 0.0 && a.tangent_keep_angle < 1.0) {
+        c.fail("analysis.tangent_keep_angle", "must lie in [0, 1) rad (0: every tangent afresh)");
+    }
     if !(a.max_energy_gain >= 0.0 && a.max_energy_gain.is_finite()) {
         c.fail("analysis.max_energy_gain", "must be finite and ≥ 0");
     }
