@@ -124,12 +124,25 @@ impl ReusingSolver {
         rhs: &mut [f64],
         nearby: bool,
     ) -> Result<Solved, SolverFailure> {
+        self.solve_to(pattern, values, rhs, nearby, self.reuse.tolerance)
+    }
+
+    /// [`Self::solve`], a PCG solve on the last factor ending at the relative `tolerance` (at
+    /// least `krylov_tolerance`) instead: for a right-hand side needed only roughly.
+    pub fn solve_to(
+        &mut self,
+        pattern: &SparsityPattern,
+        values: &[f64],
+        rhs: &mut [f64],
+        nearby: bool,
+        tolerance: f64,
+    ) -> Result<Solved, SolverFailure> {
         let near = match &self.source {
             Some(s) => (nearby && s.nearby) || self.close_to_source(values),
             None => false,
         };
         if near && !self.renew {
-            if let Some(iterations) = self.solve_on_factor(pattern, values, rhs) {
+            if let Some(iterations) = self.solve_on_factor(pattern, values, rhs, tolerance.max(self.reuse.tolerance)) {
                 return Ok(Solved::Krylov(iterations));
             }
         }
@@ -141,13 +154,13 @@ impl ReusingSolver {
     /// Solve in place by iterations on the last factor: the solver's own (multigrid), else PCG
     /// preconditioned by the factor. Their iterations if they converged; `None` (counted a
     /// failure, `rhs` untouched) if not.
-    fn solve_on_factor(&mut self, pattern: &SparsityPattern, values: &[f64], rhs: &mut [f64]) -> Option<u32> {
+    fn solve_on_factor(&mut self, pattern: &SparsityPattern, values: &[f64], rhs: &mut [f64], tol: f64) -> Option<u32> {
         let converged = match self.direct.solve_nearby(pattern, values, rhs) {
             Some(out) => out.converged.then_some(out.iterations),
             None => {
                 let mut x = vec![0.0; rhs.len()];
                 let direct = &mut self.direct;
-                let (tol, max) = (self.reuse.tolerance, self.reuse.max_iterations);
+                let max = self.reuse.max_iterations;
                 let out = pcg(pattern, values, rhs, &mut x, |r| direct.solve(r), tol, max);
                 self.counts.krylov_iterations += u64::from(out.iterations);
                 self.renew = out.converged && 2 * out.iterations > max;

@@ -69,8 +69,10 @@ impl Stepper {
             // m = r(u₀ + d) − (r(u₀) − K_t d); the rhs lacks its change since the last solve.
             let m: Vec<f64> = gather(sys, &r1).iter().zip(&g0).zip(&ktd).map(|((r1, r0), kd)| r1 - r0 + kd).collect();
             let mut change: Vec<f64> = m.iter().zip(&applied).map(|(m, a)| m - a).collect();
+            // The correction is judged against `step_equilibrium_tolerance` of the increment: on
+            // a kept factor it is solved to that relative accuracy, not to `krylov_tolerance`.
             self.solver
-                .solve(self.pattern.pattern(sys), &self.values, &mut change, true)
+                .solve_to(self.pattern.pattern(sys), &self.values, &mut change, true, a.step_equilibrium_tolerance)
                 .map_err(|f| solver_error(sys, state.step + 1, f))?;
             scatter_into(sys, &change, &mut delta);
             // Settled when the correction is below the tolerance of the increment: the end

@@ -90,19 +90,7 @@ fn subtract_inner_forces(
     // same order whatever the thread count (bit-identical results), and memory for one chunk's
     // blocks only.
     for chunk in moving.chunks(ELEMENT_CHUNK) {
-        let local: Vec<(Mat3, Vec<Vec3>, Mat3, Vec<f64>)> = chunk
-            .par_iter()
-            .map(|&e| {
-                let f = corotation::deformation_gradient(sys, state, e);
-                let r = corotation::rotation(&f, &state.rotations[e]);
-                if !with_tangent {
-                    return (r, corotation::internal_force(sys, state, e, &r), Mat3::zeros(), Vec::new());
-                }
-                let (fint, tension) = corotation::internal_force_and_tension(sys, state, e, &r);
-                let t = if whole { corotation::tangent(sys, e, &r, &tension) } else { Vec::new() };
-                (r, fint, tension, t)
-            })
-            .collect();
+        let local: Vec<Local> = chunk.par_iter().map(|&e| local(sys, state, e, (with_tangent, whole))).collect();
         for (&e, (r, fint, tension, t)) in chunk.iter().zip(local) {
             rotations.push((e, r));
             match values.as_deref_mut() {
@@ -121,6 +109,21 @@ fn subtract_inner_forces(
     add_penalties(sys, state, residual, values.as_deref_mut());
     super::bolts::add_bolts(sys, state, residual, values);
     rotations
+}
+
+/// An ME's rotation, internal force, tensile stress and tangent (the last two if asked for).
+type Local = (Mat3, Vec<Vec3>, Mat3, Vec<f64>);
+
+/// [`Local`] of ME `e`: the tensile stress `with_tangent`, the tangent too if `whole` (not kept).
+fn local(sys: &System, state: &Motion, e: usize, (with_tangent, whole): (bool, bool)) -> Local {
+    let f = corotation::deformation_gradient(sys, state, e);
+    let r = corotation::rotation(&f, &state.rotations[e]);
+    if !with_tangent {
+        return (r, corotation::internal_force(sys, state, e, &r), Mat3::zeros(), Vec::new());
+    }
+    let (fint, tension) = corotation::internal_force_and_tension(sys, state, e, &r);
+    let t = if whole { corotation::tangent(sys, e, &r, &tension) } else { Vec::new() };
+    (r, fint, tension, t)
 }
 
 /// The penalty constraints' forces into `residual`, their stiffness into `tangent` if given.
