@@ -1,7 +1,8 @@
 //! The stepper's caches as data (checkpoints): the matrix pattern grown by contacts, the
 //! matrix of the factor in use (re-factorised on resume: later solves are preconditioned by
-//! it) and the poses the kept tangent was made at. With the run's [`super::State`] they restart a run bit for bit where it stopped; the
-//! solver, the work buffers and the contact surfaces are rebuilt from the model.
+//! it) and the poses the kept tangent's shares were made at. With the run's [`super::State`]
+//! they restart a run bit for bit where it stopped; the solver, the work buffers and the
+//! contact surfaces are rebuilt from the model.
 
 use serde::{Deserialize, Serialize};
 
