@@ -20,8 +20,9 @@ use super::corotation;
 use crate::scenario::AnalysisKind;
 use crate::system::System;
 
-/// Elements whose tangents are computed together (in parallel) before they are scattered.
-const ELEMENT_CHUNK: usize = 2048;
+/// Elements whose local blocks are computed together (in parallel) before they are scattered
+/// (here and in `residual`): memory for one chunk's blocks only.
+pub(super) const ELEMENT_CHUNK: usize = 2048;
 
 /// An ME's rotation and tensile stress [Pa]: what its tangent is made of.
 pub(super) type Pose = (Mat3, Mat3);

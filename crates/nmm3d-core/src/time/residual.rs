@@ -5,13 +5,10 @@ use nmm3d_geom::{Mat3, Vec3};
 use rayon::prelude::*;
 
 use super::corotation;
-use super::kept_tangent::{KeptTangent, Pose};
+use super::kept_tangent::{KeptTangent, Pose, ELEMENT_CHUNK};
 use super::stepper::Stepper;
 use crate::state::Motion;
 use crate::system::System;
-
-/// Elements whose forces are computed together (in parallel) before they are scattered.
-const ELEMENT_CHUNK: usize = 2048;
 
 impl Stepper {
     /// Tangent into `self.tangent`, unbalanced force per cover returned, the loads into
