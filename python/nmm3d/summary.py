@@ -205,6 +205,9 @@ class RunSummary:
     #: joint pairs found again and arrivals whose force was carried (``contact.carry_joint_force``);
     #: 0 in summaries before it
     carried_joint_forces: int = 0
+    #: grown or shrunk matrix patterns factorised on an earlier symbolic analysis (their entries
+    #: inside its factor); 0 in summaries before it
+    patterns_adopted: int = 0
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> RunSummary:

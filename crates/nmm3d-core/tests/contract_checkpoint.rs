@@ -77,6 +77,25 @@ fn dominos_resume_bit_identically() {
     assert!(earlier.count() > t.elements.len() / 2, "most shares were made at an earlier step");
 }
 
+/// The thesis slope on soft joints sliding (case A, 10 MPa/m): its pattern grows inside the
+/// factor and is factorised on an earlier analysis, which the checkpoint carries
+/// (`solver::reuse`), so the resumed run orders nothing afresh and continues bit for bit.
+/// Stopped one step before the end, after adoptions since the last analysis: a restore that
+/// analysed the factor's own pattern instead changes `history.csv` there (checked).
+#[test]
+fn a_sliding_slope_on_adopted_patterns_resumes_bit_identically() {
+    let mut text = common::example("rock_slope.toml");
+    for (old, new) in [
+        ("friction_angle = 26.4", "friction_angle = 10.0\nnormal_stiffness = 1e7\nshear_stiffness = 1e7"),
+        ("duration = 1.0", "duration = 0.1"),
+    ] {
+        text = common::with(&text, old, new);
+    }
+    let mid = stopped_and_resumed_equals_whole("checkpoint_slope", &text, 99);
+    let f = &mid.stepper.factor;
+    assert!(f.counts.patterns_adopted > 0 && f.analysed.is_some(), "{:?}", f.counts);
+}
+
 #[test]
 fn incline_from_its_initial_equilibrium_resumes_bit_identically() {
     let text = common::with(&common::example("incline.toml"), "duration = 1.0", "duration = 0.2");

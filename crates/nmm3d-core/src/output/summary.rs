@@ -119,6 +119,10 @@ pub struct RunSummary {
     /// (`contact.carry_joint_force`; 0 in summaries before it).
     #[serde(default)]
     pub carried_joint_forces: u64,
+    /// Grown or shrunk patterns factorised on the symbolic analysis of an earlier one, their
+    /// entries all inside its factor (0 in summaries before it).
+    #[serde(default)]
+    pub patterns_adopted: u64,
 }
 
 /// The free-fall bound (`time/free_fall.rs`): no block's centre of mass faster than a body

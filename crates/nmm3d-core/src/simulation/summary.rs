@@ -72,6 +72,7 @@ pub(super) fn summary(sys: &System, whole: &State, stepper: &Stepper, rec: &Reco
             .collect(),
         not_held,
         free_fall: run.free_fall.as_ref().map(|f| free_fall(sys, f, &cause)),
+        patterns_adopted: counts.patterns_adopted,
     }
 }
 

@@ -11,7 +11,8 @@ use std::time::Instant;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltError;
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
+    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymbolicCholeskyRaw,
+    SymmetricOrdering,
 };
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
@@ -42,6 +43,10 @@ pub struct FaerCholesky {
     /// Scratch of the triangular solves, kept likewise.
     solve_scratch: Option<MemBuffer>,
     ordering: Option<&'static str>,
+    /// The supernode of each column of the factor (factor order).
+    supernode_of: Vec<u32>,
+    /// The pattern the analysis was made of, kept once another pattern was adopted on it.
+    analysed: Option<SparsityPattern>,
     symbolic_seconds: f64,
     numeric_seconds: f64,
 }
@@ -78,11 +83,40 @@ impl FaerCholesky {
         self.values = vec![0.0; s.len_val()];
         self.scratch = Some(MemBuffer::new(s.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())));
         self.solve_scratch = None;
+        self.supernode_of = supernode_of(&s);
+        self.analysed = None;
         self.symbolic = Some(s);
         self.permuted = Some(permuted);
         self.symbolic_seconds += t.elapsed().as_secs_f64();
         Ok(())
     }
+
+    /// Whether every entry of `p`, in the factor's order, lies in the factor's structure.
+    fn holds(&self, p: &SparsityPattern) -> bool {
+        let (Some(s), Some(q)) = (&self.symbolic, &self.permuted) else { return false };
+        let SymbolicCholeskyRaw::Supernodal(sn) = s.raw() else { return false };
+        let inv = &q.perm.inverse;
+        p.n == q.lower.n
+            && (0..p.n).all(|j| {
+                p.row_idx[p.col_ptr[j] as usize..p.col_ptr[j + 1] as usize].iter().all(|&i| {
+                    let (a, b) = (inv[i as usize], inv[j]);
+                    let (row, col) = (a.max(b) as usize, a.min(b) as usize);
+                    let node = self.supernode_of[col] as usize;
+                    row < sn.supernode_end()[node] as usize
+                        || sn.supernode(node).pattern().binary_search(&(row as u32)).is_ok()
+                })
+            })
+    }
+}
+
+/// The supernode of each column.
+fn supernode_of(s: &SymbolicCholesky<u32>) -> Vec<u32> {
+    let SymbolicCholeskyRaw::Supernodal(sn) = s.raw() else { return Vec::new() };
+    let mut of = vec![0u32; sn.nrows()];
+    for (node, (&b, &e)) in sn.supernode_begin().iter().zip(sn.supernode_end()).enumerate() {
+        of[b as usize..e as usize].fill(node as u32);
+    }
+    of
 }
 
 /// The pattern permuted by `perm` and the symbolic factorisation of that order.
@@ -137,6 +171,28 @@ impl LinearSolver for FaerCholesky {
 
     fn new_pattern(&mut self) {
         (self.symbolic, self.permuted, self.scratch, self.solve_scratch) = (None, None, None, None);
+        self.analysed = None;
+    }
+
+    fn adopt(&mut self, p: &SparsityPattern) -> bool {
+        if !self.holds(p) {
+            return false;
+        }
+        let q = self.permuted.take().expect("held by an analysis");
+        if self.analysed.is_none() {
+            self.analysed = Some(q.original());
+        }
+        self.permuted = Some(Permuted::new(p, q.perm));
+        true
+    }
+
+    fn analysed_pattern(&self) -> Option<SparsityPattern> {
+        self.analysed.clone().or_else(|| self.permuted.as_ref().map(Permuted::original))
+    }
+
+    fn analyse_pattern(&mut self, p: &SparsityPattern) -> Result<(), SolverFailure> {
+        self.new_pattern();
+        self.analyse(p)
     }
 
     fn solve(&mut self, rhs: &mut [f64]) {
@@ -192,11 +248,83 @@ mod tests {
     /// A grid of `nx × ny × nz` covers (7-point stencil, 3 × 3 blocks), diagonally dominant.
     fn grid(nx: usize, ny: usize, nz: usize) -> (SparsityPattern, Vec<f64>) {
         let p = crate::solver::ordering::tests::grid(nx, ny, nz);
-        let values = (0..p.n)
+        let values = dominant(&p);
+        (p, values)
+    }
+
+    /// Values on `p`: 10 on the diagonal, −0.1 elsewhere (diagonally dominant for < 100
+    /// entries per column).
+    fn dominant(p: &SparsityPattern) -> Vec<f64> {
+        (0..p.n)
             .flat_map(|j| (p.col_ptr[j]..p.col_ptr[j + 1]).map(move |e| (j, e as usize)))
             .map(|(j, e)| if p.row_idx[e] as usize == j { 10.0 } else { -0.1 })
-            .collect();
-        (p, values)
+            .collect()
+    }
+
+    /// The filled graph of `p` eliminated in the order `forward` (the elimination game: each
+    /// eliminated node's later neighbours become a clique), as a dense symmetric table in the
+    /// original numbering.
+    fn filled(p: &SparsityPattern, forward: &[u32]) -> Vec<Vec<bool>> {
+        let n = p.n;
+        let mut g = vec![vec![false; n]; n];
+        for j in 0..n {
+            for &i in &p.row_idx[p.col_ptr[j] as usize..p.col_ptr[j + 1] as usize] {
+                (g[i as usize][j], g[j][i as usize]) = (true, true);
+            }
+        }
+        for (k, &node) in forward.iter().enumerate() {
+            let later: Vec<usize> =
+                forward[k + 1..].iter().map(|&x| x as usize).filter(|&x| g[node as usize][x]).collect();
+            for &a in &later {
+                for &b in &later {
+                    g[a][b] = true;
+                }
+            }
+        }
+        g
+    }
+
+    #[test]
+    fn a_pattern_inside_the_factor_is_adopted_and_solves_as_a_new_analysis() {
+        let (p, v) = grid(4, 4, 5);
+        let mut s = FaerCholesky::new(Ordering::Amd);
+        s.factorize(&p, &v).expect("positive definite");
+        let g = filled(&p, &s.permuted.as_ref().expect("analysed").perm.forward);
+        let dofs = crate::assembly::DofMap::new(&vec![false; p.n / 3], &vec![None; p.n / 3]);
+        // Inside: every fill entry of the elimination (a lower bound: faer merges small
+        // supernodes, storing zeros), and those stored zeros, which must solve as exactly.
+        let (mut fill, mut stored, mut outside) = (Vec::new(), Vec::new(), Vec::new());
+        for (a, b) in (0..p.n / 3).flat_map(|a| (0..a).map(move |b| (a, b))) {
+            if p.block_offset(a, b).is_none() {
+                let grown = p.with_cliques(&dofs, [&[a, b][..]].into_iter());
+                let filled = (0..9).all(|k| g[3 * a + k / 3][3 * b + k % 3]);
+                assert!(!filled || s.holds(&grown), "fill of blocks ({a}, {b}) outside the factor");
+                match (filled, s.holds(&grown)) {
+                    (true, _) => fill.push(grown),
+                    (false, true) => stored.push(grown),
+                    (false, false) => outside.push(grown),
+                }
+            }
+        }
+        let counts = (fill.len(), stored.len(), outside.len());
+        assert!(counts.0 > 10 && counts.1 > 0 && counts.2 > 10, "fill, stored zeros, outside: {counts:?}");
+        let rhs: Vec<f64> = (0..p.n).map(|i| (i as f64).sin()).collect();
+        let picks = fill.iter().step_by(fill.len() / 4).chain(stored.iter().step_by(stored.len().div_ceil(4)));
+        for grown in picks {
+            let values = dominant(grown);
+            assert!(s.adopt(grown));
+            s.factorize(grown, &values).expect("positive definite");
+            let mut fresh = FaerCholesky::new(Ordering::Amd);
+            fresh.factorize(grown, &values).expect("positive definite");
+            let (mut x, mut y) = (rhs.clone(), rhs.clone());
+            s.solve(&mut x);
+            fresh.solve(&mut y);
+            assert!(x.iter().zip(&y).all(|(a, b)| (a - b).abs() < 1e-14), "as a new analysis solves");
+            assert_eq!(s.analysed_pattern(), Some(p.clone()), "the analysis stays that of the first");
+        }
+        let before = s.permuted.as_ref().map(|q| q.lower.clone());
+        assert!(!s.adopt(&outside[0]), "fill outside the factor");
+        assert_eq!(s.permuted.as_ref().map(|q| q.lower.clone()), before, "nothing changed");
     }
 
     #[test]

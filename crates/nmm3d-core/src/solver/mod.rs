@@ -35,6 +35,21 @@ pub trait LinearSolver: Send {
     /// The pattern changed: the next factorisation redoes the symbolic analysis (the time
     /// counters keep running).
     fn new_pattern(&mut self);
+    /// The pattern changed (contact pairs came or went): take `p` as the pattern of the next
+    /// factorisations without a new symbolic analysis if every entry of it lies in the
+    /// structure of the current analysis's factor; false (nothing changed) if not.
+    fn adopt(&mut self, _p: &SparsityPattern) -> bool {
+        false
+    }
+    /// The pattern the current symbolic analysis was made of (checkpoints: adopted patterns
+    /// are factorised on it).
+    fn analysed_pattern(&self) -> Option<SparsityPattern> {
+        None
+    }
+    /// Make the symbolic analysis of `p` now (restoring a checkpoint).
+    fn analyse_pattern(&mut self, _p: &SparsityPattern) -> Result<(), SolverFailure> {
+        Ok(())
+    }
     /// Solve in place with the last factorisation.
     fn solve(&mut self, rhs: &mut [f64]);
     /// Stored entries of the factor of the current pattern (0 before the first factorisation).

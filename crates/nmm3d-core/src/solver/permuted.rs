@@ -49,6 +49,12 @@ impl Permuted {
         Self { perm, lower: SparsityPattern { n, col_ptr, row_idx }, source }
     }
 
+    /// The pattern in the source's order again (lower triangle, sorted columns).
+    pub fn original(&self) -> SparsityPattern {
+        let back = Permutation { forward: self.perm.inverse.clone(), inverse: self.perm.forward.clone() };
+        Permuted::new(&self.lower, back).lower
+    }
+
     /// The upper triangle (the transpose of `lower`; rows sorted), which faer's symbolic
     /// analysis reads.
     pub fn upper(&self) -> SparsityPattern {

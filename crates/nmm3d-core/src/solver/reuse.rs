@@ -60,6 +60,7 @@ pub struct FactorSource {
     pub nearby: bool,
 }
 
+/// `true` (serde default).
 fn nearby_kind() -> bool {
     true
 }
@@ -69,8 +70,14 @@ fn nearby_kind() -> bool {
 pub struct FactorSnapshot {
     /// The matrix of the factor in use (`None`: no reusable factor).
     pub source: Option<FactorSource>,
+    /// The pattern of the symbolic analysis in use, when not the source's (adopted patterns).
+    #[serde(default)]
+    pub analysed: Option<SparsityPattern>,
     /// The next solve factorises.
     pub renew: bool,
+    /// The pattern changed since the last factorisation (checkpoints before it: assumed).
+    #[serde(default = "nearby_kind")]
+    pub pattern_changed: bool,
     /// Counters so far.
     pub counts: SolveCounts,
 }
@@ -86,6 +93,9 @@ pub struct SolveCounts {
     pub krylov_iterations: u64,
     /// PCG attempts that did not converge (the matrix was factorised instead).
     pub krylov_failures: u64,
+    /// Changed patterns factorised on the symbolic analysis of an earlier one.
+    #[serde(default)]
+    pub patterns_adopted: u64,
 }
 
 /// A direct solver whose factor is reused by PCG while it preconditions well.
@@ -208,7 +218,11 @@ impl ReusingSolver {
     fn factorize(&mut self, pattern: &SparsityPattern, values: &[f64], nearby: bool) -> Result<(), SolverFailure> {
         let same_pattern = !self.pattern_changed;
         if self.pattern_changed {
-            self.direct.new_pattern();
+            if self.direct.adopt(pattern) {
+                self.counts.patterns_adopted += 1;
+            } else {
+                self.direct.new_pattern();
+            }
             self.pattern_changed = false;
         }
         // A failed factorisation leaves no usable factor.
@@ -230,24 +244,35 @@ impl ReusingSolver {
         Ok(())
     }
 
-    /// The pattern changed: the next factorisation re-analyses it; until then the old factor
-    /// still preconditions.
+    /// The pattern changed: the next factorisation adopts it on the current analysis if the
+    /// factor's structure holds it, else re-analyses it; until then the old factor still
+    /// preconditions.
     pub fn new_pattern(&mut self) {
         self.pattern_changed = true;
     }
 
     /// The state to save.
     pub fn snapshot(&self) -> FactorSnapshot {
-        FactorSnapshot { source: self.source.clone(), renew: self.renew, counts: self.counts }
+        let analysed = self.direct.analysed_pattern().filter(|a| self.source.as_ref().is_none_or(|s| s.pattern != *a));
+        let (source, renew, pattern_changed, counts) =
+            (self.source.clone(), self.renew, self.pattern_changed, self.counts);
+        FactorSnapshot { source, analysed, renew, pattern_changed, counts }
     }
 
-    /// Continue from a snapshot: re-make its factor.
+    /// Continue from a snapshot: re-make its analysis and factor.
     pub fn restore(&mut self, s: FactorSnapshot) -> Result<(), SolverFailure> {
-        if let Some(src) = &s.source {
-            self.direct.new_pattern();
-            self.direct.factorize(&src.pattern, &src.values)?;
-            self.pattern_changed = true;
+        self.direct.new_pattern();
+        if let Some(a) = &s.analysed {
+            self.direct.analyse_pattern(a)?;
         }
+        if let Some(src) = &s.source {
+            if s.analysed.is_some() && !self.direct.adopt(&src.pattern) {
+                return Err(SolverFailure::Analysis("a checkpoint's factor outside its analysis".into()));
+            }
+            self.direct.factorize(&src.pattern, &src.values)?;
+        }
+        // Without a source the last factorised pattern is unknown: adopt the next one.
+        self.pattern_changed = s.pattern_changed || (s.source.is_none() && s.analysed.is_some());
         (self.source, self.renew, self.counts, self.scale) = (s.source, s.renew, s.counts, None);
         Ok(())
     }
@@ -300,6 +325,16 @@ mod tests {
         (SparsityPattern { n, col_ptr, row_idx }, values)
     }
 
+    /// `p` with entry (row, col), row > col, added.
+    fn with_entry(p: &SparsityPattern, (row, col): (usize, usize)) -> SparsityPattern {
+        let mut g = p.clone();
+        let at = g.col_ptr[col] as usize
+            + g.row_idx[p.col_ptr[col] as usize..p.col_ptr[col + 1] as usize].partition_point(|&r| (r as usize) < row);
+        g.row_idx.insert(at, row as u32);
+        g.col_ptr[col + 1..].iter_mut().for_each(|c| *c += 1);
+        g
+    }
+
     fn solver(max_iterations: u32) -> ReusingSolver {
         let reuse = FactorReuse { enabled: true, tolerance: 1e-12, max_iterations, closeness: 0.0 };
         ReusingSolver::new(Box::new(FaerCholesky::new(Ordering::Amd)), reuse)
@@ -329,8 +364,7 @@ mod tests {
         assert!(max_difference(&x1, &exact) <= 1e-10 * exact.iter().map(|x| x.abs()).fold(0.0, f64::max));
         assert_eq!(
             s.counts,
-            SolveCounts { factorizations: 1, krylov_solves: 1, krylov_iterations: 0, krylov_failures: 0 }
-                .with_iterations(&got)
+            SolveCounts { factorizations: 1, krylov_solves: 1, ..SolveCounts::default() }.with_iterations(&got)
         );
     }
 
@@ -385,6 +419,49 @@ mod tests {
         assert!(matches!(b.solve(&p, &v1, &mut xb, true), Ok(Solved::Krylov(_))));
         assert_eq!(xa, xb);
         assert_eq!(a.counts, b.counts);
+    }
+
+    #[test]
+    fn a_restored_snapshot_factorises_adopted_patterns_on_the_same_analysis() {
+        // A pattern grown by one coupling inside the factor's fill: factorised on the first
+        // analysis. The checkpoint carries that analysis's pattern, so a resumed run neither
+        // orders the grown pattern afresh nor rejects the next adoption.
+        let (p, v0) = grid(5, |_| 6.5);
+        let reuse = FactorReuse { enabled: true, tolerance: 1e-12, max_iterations: 20, closeness: 1e-6 };
+        let new = || ReusingSolver::new(Box::new(FaerCholesky::new(Ordering::Amd)), reuse);
+        let mut a = new();
+        a.solve(&p, &v0, &mut rhs(p.n), false).unwrap();
+        let mut probe = FaerCholesky::new(Ordering::Amd);
+        probe.factorize(&p, &v0).unwrap();
+        let grown = (0..p.n)
+            .flat_map(|x| (0..x).map(move |y| (x, y)))
+            .filter(|&(x, y)| p.position(x, y).is_none())
+            .map(|entry| with_entry(&p, entry))
+            .find(|g| probe.adopt(g))
+            .expect("an entry inside the fill");
+        let values = |scale: f64| -> Vec<f64> {
+            (0..grown.n)
+                .flat_map(|j| (grown.col_ptr[j]..grown.col_ptr[j + 1]).map(move |e| (j, e as usize)))
+                .map(|(j, e)| if grown.row_idx[e] as usize == j { 6.5 * scale } else { -0.5 })
+                .collect()
+        };
+        a.new_pattern();
+        a.solve(&grown, &values(1.0), &mut rhs(p.n), false).unwrap();
+        assert_eq!(a.counts.patterns_adopted, 1);
+        let snap: FactorSnapshot = serde_json::from_str(&serde_json::to_string(&a.snapshot()).unwrap()).unwrap();
+        assert_eq!(snap.analysed, Some(p.clone()), "the analysis's own pattern travels");
+        let mut b = new();
+        b.restore(snap).unwrap();
+        let (mut xa, mut xb) = (rhs(p.n), rhs(p.n));
+        a.solve(&grown, &values(1.3), &mut xa, false).unwrap();
+        b.solve(&grown, &values(1.3), &mut xb, false).unwrap();
+        assert_eq!(xa, xb);
+        assert_eq!(a.counts, b.counts);
+        a.new_pattern();
+        b.new_pattern();
+        a.solve(&p, &v0, &mut xa, false).unwrap();
+        b.solve(&p, &v0, &mut xb, false).unwrap();
+        assert_eq!((xa, a.counts.patterns_adopted), (xb, 2), "back to the analysed pattern: adopted");
     }
 
     impl SolveCounts {
