@@ -8,7 +8,7 @@ use super::dof_map::{CoverDofs, DofMap};
 use super::sparsity::SparsityPattern;
 
 /// The scatter of one clique of covers.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Coupling {
     /// Equation block (first equation / 3) of each node: the free covers and the free masters
     /// of the tied ones.
@@ -56,6 +56,17 @@ impl Coupling {
             .map(|(p, q)| if p >= q { pattern.block_offset(p as usize, q as usize) } else { Some(UPPER) })
             .collect::<Option<Vec<u32>>>()?;
         Some(Self { blocks, spread, offsets })
+    }
+
+    /// The same scatter in `new`, a pattern holding every entry of `old` (this scatter's
+    /// pattern) at `moved[k]` for `old`'s entry k ([`SparsityPattern::embedding`]).
+    pub fn move_to(&mut self, old: &SparsityPattern, new: &SparsityPattern, moved: &[u32]) {
+        let m = self.nodes();
+        for (k, off) in self.offsets.iter_mut().enumerate().filter(|(_, off)| **off != UPPER) {
+            let col = 3 * self.blocks[k % m] as usize;
+            let at = moved[(old.col_ptr[col] + *off) as usize];
+            *off = at - new.col_ptr[col];
+        }
     }
 
     /// Number of nodes m.
@@ -107,6 +118,22 @@ mod tests {
             }
         }
         d
+    }
+
+    #[test]
+    fn a_moved_scatter_is_the_scatter_made_in_the_grown_pattern() {
+        // Covers 0..8 free but 6 tied to ½ (1 + 7); a coupling of {0, 3, 6}, then cliques that
+        // insert rows before and between its entries.
+        let mut tied = vec![None; 9];
+        tied[6] = Some(vec![(1, 0.5), (7, 0.5)]);
+        let dofs = DofMap::new(&[false; 9], &tied);
+        let clique = [0usize, 3, 6];
+        let p = SparsityPattern::from_cliques(&dofs, [&[0usize, 1, 3, 7][..], &[4, 5]].into_iter());
+        let mut c = Coupling::new(&p, &dofs, &clique);
+        let grown = p.with_cliques(&dofs, [&[0usize, 2][..], &[1, 2, 5], &[3, 4, 8]].into_iter());
+        assert!(grown.nnz() > p.nnz());
+        c.move_to(&p, &grown, &p.embedding(&grown));
+        assert_eq!(c, Coupling::new(&grown, &dofs, &clique));
     }
 
     #[test]

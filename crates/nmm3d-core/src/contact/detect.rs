@@ -11,7 +11,7 @@ use rustc_hash::{FxHashMap, FxHashSet};
 use nmm3d_geom::contact::{detect_prepared, Contact, ContactPoint, DetectParams, Prepared};
 use nmm3d_geom::{Aabb, ConvexPolyhedron, Vec3};
 
-use super::facets::{self, Candidate};
+use super::facets::{self, Candidate, Wanted};
 use super::history::ContactHistory;
 use super::joint_force::{self, Redetection};
 use super::record::{ContactParams, ContactRecord, ContactState};
@@ -80,7 +80,7 @@ impl ContactSurfaces {
         let (redo, stay): (Vec<Pair>, Vec<Pair>) =
             near.iter().partition(|&&q| initial || h.travel.since(self.blocks_of(q), None) >= p.tolerance);
         let kept: FxHashSet<(usize, usize)> = stay.iter().map(|&q| self.blocks_of(q)).collect();
-        let found = self.find(sys, state, &current, &narrow, (&redo, f64::NEG_INFINITY));
+        let found = self.find(sys, state, &current, &narrow, (&redo, f64::NEG_INFINITY), &|_, _, _| true);
         let previous = std::mem::take(&mut h.records);
         let mut by_pair: FxHashMap<(usize, usize), Vec<usize>> = FxHashMap::default();
         for (k, r) in previous.iter().enumerate() {
@@ -127,7 +127,8 @@ impl ContactSurfaces {
     /// The contact points of the candidate pairs `pairs` (piece indices) on the pieces' geometry
     /// `current` at `state` with the tolerances of `p`: per detected pair, A's and B's piece
     /// (A of the higher block index), the normal and the points. Pairs separated by more than
-    /// −`overlap` (overlapping by less) are left out.
+    /// −`overlap` (overlapping by less) are left out. `wanted`: which candidates of a pair
+    /// (blocks as records name them) get material points ([`Wanted`]).
     fn find(
         &self,
         sys: &System,
@@ -135,6 +136,7 @@ impl ContactSurfaces {
         current: &[ConvexPolyhedron],
         p: &ContactParams,
         (pairs, overlap): (&[(usize, usize)], f64),
+        wanted: PairWanted,
     ) -> Vec<(usize, usize, Vec3, Vec<Candidate>)> {
         let dp = DetectParams { margin: p.margin, support_tolerance: p.tolerance, thin_distance: 10.0 * p.tolerance };
         let pieces = &self.pieces;
@@ -154,7 +156,9 @@ impl ContactSurfaces {
                     current: (&current[i], &current[j]),
                     facets: (facets_of(i), facets_of(j)),
                 };
-                Some((i, j, c.normal, candidates(sys, state, &on, &c, p)))
+                let blocks = (pieces[i].block, pieces[j].block);
+                let want = |gap: f64, r: &Vec3| wanted(blocks, gap, r);
+                Some((i, j, c.normal, candidates(sys, state, &on, &c, p, &want)))
             })
             .collect()
     }
@@ -193,16 +197,21 @@ impl ContactSurfaces {
             .filter(|&(i, j)| boxes[i].separation(&boxes[j]) <= -overlap)
             .filter(|&q| h.travel.since(self.blocks_of(q), Some(&moved)) >= p.tolerance)
             .collect();
-        let found = self.find(sys, end, &current, &p, (&pairs, overlap));
         let reach = REACH * p.tolerance;
+        let mut known_at: FxHashMap<(usize, usize), Vec<Vec3>> = FxHashMap::default();
+        for r in &h.records {
+            known_at.entry(r.blocks).or_default().push(r.a.reference);
+        }
+        let known = |blocks, x: &Vec3| known_at.get(&blocks).is_some_and(|k| k.iter().any(|r| (r - x).norm() < reach));
+        let wanted = |blocks, gap: f64, x: &Vec3| gap < -p.tolerance && !known(blocks, x);
+        let found = self.find(sys, end, &current, &p, (&pairs, overlap), &wanted);
         let mut added = Vec::new();
         for (i, j, normal, points) in found {
             let blocks = (self.pieces[i].block, self.pieces[j].block);
             let same: Vec<usize> = (0..h.records.len()).filter(|&k| h.records[k].blocks == blocks).collect();
             let joint = joint_between(sys, blocks.0, blocks.1);
             for mut q in points {
-                let known = same.iter().any(|&k| (h.records[k].a.reference - q.a.reference).norm() < reach);
-                if q.gap >= -p.tolerance || known {
+                if !q.resolved || q.gap >= -p.tolerance || known(blocks, &q.a.reference) {
                     continue;
                 }
                 q.gap = normal.dot(&(q.a.position(sys, start) - q.b.position(sys, start)));
@@ -253,6 +262,9 @@ impl ContactRecord {
 /// Two pieces (indices into the contact surfaces).
 type Pair = (usize, usize);
 
+/// [`Wanted`] for the candidates of a pair of blocks (higher first).
+type PairWanted<'a> = &'a (dyn Fn((usize, usize), f64, &Vec3) -> bool + Sync);
+
 fn both_fixed(sys: &System, a: usize, b: usize) -> bool {
     sys.geometry.blocks[a].fixed && sys.geometry.blocks[b].fixed
 }
@@ -267,7 +279,14 @@ struct Surfaces<'a> {
 
 /// Contact point candidates of a detected pair: on the facets for a face-to-face contact, else
 /// the piece-level points (area shared equally); and the corners approaching the plane's face.
-fn candidates(sys: &System, state: &Motion, on: &Surfaces, c: &Contact, p: &ContactParams) -> Vec<Candidate> {
+fn candidates(
+    sys: &System,
+    state: &Motion,
+    on: &Surfaces,
+    c: &Contact,
+    p: &ContactParams,
+    wanted: Wanted,
+) -> Vec<Candidate> {
     let (tol, merge) = (p.tolerance, p.merge);
     let ((pa, pb), (ca, cb)) = (on.pieces, on.current);
     let (n, merge_sq) = (c.normal, merge * merge);
@@ -282,6 +301,7 @@ fn candidates(sys: &System, state: &Motion, on: &Surfaces, c: &Contact, p: &Cont
         &n,
         (level_a, level_b),
         (tol, merge, p.turned_face),
+        wanted,
     );
     let mut found = if on_facets.is_empty() {
         let area = if c.points.is_empty() { 0.0 } else { c.area / c.points.len() as f64 };
@@ -310,7 +330,8 @@ fn candidates(sys: &System, state: &Motion, on: &Surfaces, c: &Contact, p: &Cont
     found
 }
 
-/// Candidates at the piece-level points `points` of a detected pair, each with `area`.
+/// Candidates at the piece-level points `points` of a detected pair, each with `area` (all
+/// resolved: whether B's point can be located decides whether one exists).
 fn piece_points(
     sys: &System,
     state: &Motion,
@@ -335,7 +356,7 @@ fn piece_points(
             // other piece's faces) would otherwise turn a touch into a deep overlap — a 0.5 mm
             // touch measured as 13 cm on the thesis slope, pushed apart at 100 m/s.
             let gap = n.dot(&(xa - xb)).max(separation - tol);
-            Some(Candidate { mode: q.mode, a, b, on_a: xa, gap, area })
+            Some(Candidate { mode: q.mode, a, b, on_a: xa, gap, area, resolved: true })
         })
         .collect()
 }

@@ -45,7 +45,15 @@ pub struct Candidate {
     pub gap: f64,
     /// Share of the contact area [m²].
     pub area: f64,
+    /// Its material points were made: false for a candidate the caller did not want (their
+    /// weights left empty), kept so that corners found again merge with it as before.
+    pub resolved: bool,
 }
+
+/// Which candidates get material points, by their gap [m] and reference position on A [m]
+/// (the lagged verification wants only deep points it does not know: most found again are known,
+/// and their material coordinates were most of its cost).
+pub type Wanted<'a> = &'a (dyn Fn(f64, &Vec3) -> bool + Sync);
 
 /// Boundary facets of every ME of `block` lying on the reference piece `piece` (its surface).
 pub fn facets_of_piece(sys: &System, block: usize, piece: &nmm3d_geom::ConvexPolyhedron) -> Vec<Facet> {
@@ -159,6 +167,7 @@ pub fn overlay(
     n: &Vec3,
     (level_a, level_b): (f64, f64),
     (tol, merge, turned): (f64, f64, f64),
+    wanted: Wanted,
 ) -> Vec<Candidate> {
     // Every facet in the slab between the two extreme levels (widened by `tol`) touches: on a
     // compliant joint a face closes by millimetres, more on its lower side when it carries a
@@ -207,10 +216,15 @@ pub fn overlay(
                 } else {
                     Mode::EdgeEdge
                 };
-                let a = MaterialPoint::on_element(sys, fa_.vertices[0].element, reference(&on_a, xa, fa_));
-                let b = MaterialPoint::on_element(sys, fb_.vertices[0].element, reference(&on_b, xb, fb_));
+                let (ra, rb, gap) = (reference(&on_a, xa, fa_), reference(&on_b, xb, fb_), n.dot(&(on_a - on_b)));
+                let resolved = wanted(gap, &ra);
+                let point = |element: usize, x: Vec3| match resolved {
+                    true => MaterialPoint::on_element(sys, element, x),
+                    false => MaterialPoint { element, weights: Vec::new(), reference: x },
+                };
+                let (a, b) = (point(fa_.vertices[0].element, ra), point(fb_.vertices[0].element, rb));
                 index.entry(key(&on_a, merge)).or_default().push(points.len());
-                points.push(Candidate { mode, a, b, on_a, gap: n.dot(&(on_a - on_b)), area: share });
+                points.push(Candidate { mode, a, b, on_a, gap, area: share, resolved });
             }
         }
     }

@@ -3,6 +3,10 @@
 //! The symbolic factorisation is computed once and reused for every numeric factorisation while
 //! the pattern holds; so is the pattern permuted into the factor's order (`permuted.rs`), into
 //! which each factorisation gathers the values.
+//! A pattern that changes only inside the factor's stored structure (contact pairs whose
+//! entries are fill already) is adopted without a new analysis: fill is monotone and a filled
+//! graph eliminates without fill (the path theorem, Rose, Tarjan and Lueker 1976), so such a
+//! matrix fills nothing beyond the structure; only the gather map is remade.
 //! Runs sequentially (`Par::Seq`): results do not depend on the thread count, and on two
 //! cores threads did not speed faer up (`research/ecosystem.md` §3).
 
