@@ -42,8 +42,9 @@ pub trait LinearSolver: Send {
         false
     }
     /// The pattern the current symbolic analysis was made of (checkpoints: adopted patterns
-    /// are factorised on it).
-    fn analysed_pattern(&self) -> Option<SparsityPattern> {
+    /// are factorised on it) when another pattern was adopted on it since; when none was (it is
+    /// the last factorised pattern), only if `always` (it costs a copy of the pattern).
+    fn analysed_pattern(&self, _always: bool) -> Option<SparsityPattern> {
         None
     }
     /// Make the symbolic analysis of `p` now (restoring a checkpoint).

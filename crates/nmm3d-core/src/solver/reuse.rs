@@ -253,7 +253,9 @@ impl ReusingSolver {
 
     /// The state to save.
     pub fn snapshot(&self) -> FactorSnapshot {
-        let analysed = self.direct.analysed_pattern().filter(|a| self.source.as_ref().is_none_or(|s| s.pattern != *a));
+        // With a source, an analysis no pattern was adopted on since is the source's own.
+        let analysed = (self.direct.analysed_pattern(self.source.is_none()))
+            .filter(|a| self.source.as_ref().is_none_or(|s| s.pattern != *a));
         let (source, renew, pattern_changed, counts) =
             (self.source.clone(), self.renew, self.pattern_changed, self.counts);
         FactorSnapshot { source, analysed, renew, pattern_changed, counts }
