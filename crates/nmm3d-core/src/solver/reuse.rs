@@ -56,12 +56,12 @@ pub struct FactorSource {
     pub values: Vec<f64>,
     /// It was of the kind that the next matrices are near (no contact springs): any `nearby`
     /// matrix may be solved on it; otherwise only one close to it entry by entry.
-    #[serde(default = "nearby_kind")]
+    #[serde(default = "default_true")]
     pub nearby: bool,
 }
 
 /// `true` (serde default).
-fn nearby_kind() -> bool {
+fn default_true() -> bool {
     true
 }
 
@@ -76,7 +76,7 @@ pub struct FactorSnapshot {
     /// The next solve factorises.
     pub renew: bool,
     /// The pattern changed since the last factorisation (checkpoints before it: assumed).
-    #[serde(default = "nearby_kind")]
+    #[serde(default = "default_true")]
     pub pattern_changed: bool,
     /// Counters so far.
     pub counts: SolveCounts,
