@@ -94,13 +94,13 @@ fn dominos_resume_bit_identically() {
 /// resumed run).
 #[test]
 fn a_sliding_slope_on_adopted_patterns_resumes_bit_identically() {
-    let mut text = common::example("rock_slope.toml");
-    for (old, new) in [
-        ("friction_angle = 26.4", "friction_angle = 10.0\nnormal_stiffness = 1e7\nshear_stiffness = 1e7"),
-        ("duration = 1.0", "duration = 0.1"),
-    ] {
-        text = common::with(&text, old, new);
-    }
+    let text = common::with_each(
+        &common::example("rock_slope.toml"),
+        &[
+            ("friction_angle = 26.4", "friction_angle = 10.0\nnormal_stiffness = 1e7\nshear_stiffness = 1e7"),
+            ("duration = 1.0", "duration = 0.1"),
+        ],
+    );
     let adopted = |at: &u64| {
         let f = stopped("checkpoint_slope_probe", &text, *at).1.stepper.factor;
         let order = |p: &SparsityPattern| amd(p).expect("an ordering").forward;
@@ -121,17 +121,16 @@ fn incline_from_its_initial_equilibrium_resumes_bit_identically() {
 
 /// The cantilever example made a dynamic run of 12 ms on covers of `size`, with `extra` keys.
 fn vibrating_cantilever(size: &str, extra: &str) -> String {
-    let mut text = common::example("cantilever.toml");
     let dynamic = format!("kind = \"dynamic\"{extra}");
-    for (old, new) in [
-        ("kind = \"static\"", dynamic.as_str()),
-        ("duration = 1000.0", "duration = 0.012"),
-        ("dt = 1.0", "dt = 0.001"),
-        ("size = 0.125", size),
-    ] {
-        text = common::with(&text, old, new);
-    }
-    text
+    common::with_each(
+        &common::example("cantilever.toml"),
+        &[
+            ("kind = \"static\"", dynamic.as_str()),
+            ("duration = 1000.0", "duration = 0.012"),
+            ("dt = 1.0", "dt = 0.001"),
+            ("size = 0.125", size),
+        ],
+    )
 }
 
 /// A continuum's steps are solved by PCG on an earlier factor: the checkpoint carries that

@@ -423,16 +423,16 @@ shape = { box = { min = [0.9, 0.0, 0.0], max = [1.9, 1.0, 1.0] } }
 fn a_soft_penalty_is_raised_until_the_overlap_is_allowed() {
     // The drop test with a hundredth of its stiffness would overlap by 2.2 cm (4.5 % of the
     // 0.5 m cover): the penalty must be raised until the overlap stays below 1 %.
-    let mut text = common::example("drop_test.toml");
-    for (old, new) in [
-        ("normal_stiffness = 2.5e8", "normal_stiffness = 2.5e6"),
-        ("shear_stiffness = 2.5e8", "shear_stiffness = 2.5e6"),
-        ("dt = 1.0e-5", "dt = 0.002"),
-        ("duration = 0.0062", "duration = 0.05"),
-        ("max_penetration_ratio = 0.05", "max_penetration_ratio = 0.01"),
-    ] {
-        text = common::with(&text, old, new);
-    }
+    let text = common::with_each(
+        &common::example("drop_test.toml"),
+        &[
+            ("normal_stiffness = 2.5e8", "normal_stiffness = 2.5e6"),
+            ("shear_stiffness = 2.5e8", "shear_stiffness = 2.5e6"),
+            ("dt = 1.0e-5", "dt = 0.002"),
+            ("duration = 0.0062", "duration = 0.05"),
+            ("max_penetration_ratio = 0.05", "max_penetration_ratio = 0.01"),
+        ],
+    );
     let out = run_ok(&text, "soft_penalty");
     let raises = out.summary.penalty_raises;
     let pen = out.summary.max_penetration;
@@ -446,16 +446,16 @@ fn dda_scheme_restitution_matches_the_table() {
     // ω Δt = 0.05 / 0.1 / 0.2 / 0.5 is 0.962 / 0.925 / 0.855 / 0.684 (ω² = k / m, no gravity).
     let omega = (1e9f64 / 2500.0).sqrt();
     for (wdt, table) in [(0.05, 0.962), (0.1, 0.925), (0.2, 0.855), (0.5, 0.684)] {
-        let mut text = common::example("drop_test.toml");
-        for (old, new) in [
-            ("dt = 1.0e-5", format!("dt = {}", wdt / omega)),
-            ("integrator = \"newmark\"", "integrator = \"dda\"".into()),
-            ("gravity = [0.0, 0.0, -10.0]", "gravity = [0.0, 0.0, 0.0]".into()),
-            ("duration = 0.0062", "duration = 0.012".into()),
-            ("max_displacement_ratio = 0.05", "max_displacement_ratio = 1.0".into()),
-        ] {
-            text = common::with(&text, old, &new);
-        }
+        let text = common::with_each(
+            &common::example("drop_test.toml"),
+            &[
+                ("dt = 1.0e-5", format!("dt = {}", wdt / omega)),
+                ("integrator = \"newmark\"", "integrator = \"dda\"".into()),
+                ("gravity = [0.0, 0.0, -10.0]", "gravity = [0.0, 0.0, 0.0]".into()),
+                ("duration = 0.0062", "duration = 0.012".into()),
+                ("max_displacement_ratio = 0.05", "max_displacement_ratio = 1.0".into()),
+            ],
+        );
         let name = format!("restitution_{wdt}");
         run_ok(&text, &name);
         let v = history(&name, "cube.velocity.z");

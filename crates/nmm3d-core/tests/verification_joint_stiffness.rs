@@ -16,14 +16,14 @@ use common::{final_value, run_ok};
 const KN: f64 = 1.0e8;
 
 fn cube_on_joint(size: f64, pattern: &str, name: &str) -> f64 {
-    let mut text = common::example("block_on_joint.toml");
-    for (old, new) in [
-        ("gravity = [1.0, 0.0, -10.0]", "gravity = [0.0, 0.0, -10.0]".to_string()),
-        ("pattern = \"hex8\"", format!("pattern = \"{pattern}\"")),
-        ("size = 0.5", format!("size = {size}")),
-    ] {
-        text = common::with(&text, old, &new);
-    }
+    let text = common::with_each(
+        &common::example("block_on_joint.toml"),
+        &[
+            ("gravity = [1.0, 0.0, -10.0]", "gravity = [0.0, 0.0, -10.0]".to_string()),
+            ("pattern = \"hex8\"", format!("pattern = \"{pattern}\"")),
+            ("size = 0.5", format!("size = {size}")),
+        ],
+    );
     let out = run_ok(&text, name);
     -final_value(&out, "base.displacement.z")
 }

@@ -8,7 +8,7 @@
 
 mod common;
 
-use common::{example, final_value, run_ok, with};
+use common::{example, final_value, run_ok, with_each};
 
 /// Root of λ³ − λ − 2t/E = 0 above 1 (Newton).
 fn svk_stretch(t_over_e: f64) -> f64 {
@@ -20,18 +20,18 @@ fn svk_stretch(t_over_e: f64) -> f64 {
 }
 
 fn stretch(pattern: &str, measure: &str) -> f64 {
-    let mut text = example("bar_patch.toml");
-    for (old, new) in [
-        ("pattern = \"tet6\"", format!("pattern = \"{pattern}\"")),
-        ("young = 10.0e9", "young = 1.0e6".to_string()),
-        ("poisson = 0.25", "poisson = 0.0".to_string()),
-        ("traction = [-1.0e6, 0.0, 0.0]", "traction = [-2.0e5, 0.0, 0.0]".to_string()),
-        ("traction = [1.0e6, 0.0, 0.0]", "traction = [2.0e5, 0.0, 0.0]".to_string()),
-        ("max_displacement_ratio = 0.01", format!("max_displacement_ratio = 0.05\nstrain_measure = \"{measure}\"")),
-        ("equilibrium_tolerance = 1e-12", "equilibrium_tolerance = 1e-11".to_string()),
-    ] {
-        text = with(&text, old, &new);
-    }
+    let text = with_each(
+        &example("bar_patch.toml"),
+        &[
+            ("pattern = \"tet6\"", format!("pattern = \"{pattern}\"")),
+            ("young = 10.0e9", "young = 1.0e6".to_string()),
+            ("poisson = 0.25", "poisson = 0.0".to_string()),
+            ("traction = [-1.0e6, 0.0, 0.0]", "traction = [-2.0e5, 0.0, 0.0]".to_string()),
+            ("traction = [1.0e6, 0.0, 0.0]", "traction = [2.0e5, 0.0, 0.0]".to_string()),
+            ("max_displacement_ratio = 0.01", format!("max_displacement_ratio = 0.05\nstrain_measure = \"{measure}\"")),
+            ("equilibrium_tolerance = 1e-12", "equilibrium_tolerance = 1e-11".to_string()),
+        ],
+    );
     let out = run_ok(&text, &format!("large_strain_{pattern}_{measure}"));
     1.0 + (final_value(&out, "end.displacement.x") - final_value(&out, "start.displacement.x")) / 10.0
 }

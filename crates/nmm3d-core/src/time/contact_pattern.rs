@@ -79,12 +79,13 @@ impl ContactPattern {
             return false;
         }
         self.last_closed.retain(|_, &mut last| last + RETAIN_STEPS >= step);
-        let held = self.grown.as_ref().map_or(0, |g| g.couplings.len());
-        let stale =
-            self.grown.as_ref().map_or(0, |g| g.couplings.keys().filter(|p| !self.last_closed.contains_key(p)).count());
         // A tenth: on thesis case A (10 MPa/m joints) a quarter kept so many stale pairs that
         // the factor grew by 16 % and its factorisations cost more than the growths saved.
-        if held > 0 && 10 * stale <= held {
+        let fresh = self.grown.as_ref().is_some_and(|g| {
+            let stale = g.couplings.keys().filter(|p| !self.last_closed.contains_key(p)).count();
+            !g.couplings.is_empty() && 10 * stale <= g.couplings.len()
+        });
+        if fresh {
             self.extend(sys, &missing);
         } else {
             let mut pairs: Vec<(usize, usize)> = self.last_closed.keys().copied().collect();

@@ -95,6 +95,11 @@ pub fn with(text: &str, old: &str, new: &str) -> String {
     text.replacen(old, new, 1)
 }
 
+/// `text` with each `(old, new)` replaced in turn ([`with`]).
+pub fn with_each<S: AsRef<str>>(text: &str, replacements: &[(&str, S)]) -> String {
+    replacements.iter().fold(text.to_string(), |t, (old, new)| with(&t, old, new.as_ref()))
+}
+
 /// Half-space planes (`convex` shape rows) of a fixed incline dipping `alpha_deg` towards
 /// `dip_direction_deg` (surface through the origin, 3 m thick, 8 × 5 m) and of a block of
 /// `height` × 1 × 1 m resting on it at the origin.
