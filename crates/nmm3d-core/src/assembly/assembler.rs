@@ -79,15 +79,25 @@ impl Assembler {
     /// values += local (row-major, size (3n)²) of element `e`.
     #[inline]
     pub fn add(&self, values: &mut [f64], e: usize, local: &[f64]) {
-        let t = &self.targets[self.offsets[e]..self.offsets[e + 1]];
-        let mapped;
-        let local = match &self.transforms[e] {
+        match &self.transforms[e] {
+            None => self.add_mapped(values, e, local),
+            Some((m, tm)) => self.add_mapped(values, e, &transform(local, tm, *m)),
+        }
+    }
+
+    /// Element `e`'s block `local` as [`Self::add_mapped`] scatters it: itself, or Tᵀ L T with
+    /// tied covers — made where the blocks are made (in parallel), not in the serial scatter.
+    pub fn mapped(&self, e: usize, local: Vec<f64>) -> Vec<f64> {
+        match &self.transforms[e] {
             None => local,
-            Some((m, tm)) => {
-                mapped = transform(local, tm, *m);
-                &mapped
-            }
-        };
+            Some((m, tm)) => transform(&local, tm, *m),
+        }
+    }
+
+    /// values += a block of element `e` already [`Self::mapped`].
+    #[inline]
+    pub fn add_mapped(&self, values: &mut [f64], e: usize, local: &[f64]) {
+        let t = &self.targets[self.offsets[e]..self.offsets[e + 1]];
         debug_assert_eq!(t.len(), local.len());
         for (&pos, &v) in t.iter().zip(local) {
             if pos != SKIP {

@@ -44,6 +44,8 @@ pub enum Solved {
     Factorized,
     /// By PCG on the last factor, in this many iterations.
     Krylov(u32),
+    /// By the last factor, made of this very matrix (one solve, exact).
+    OwnFactor,
 }
 
 /// The matrix the current factor was made of.
@@ -147,6 +149,12 @@ impl ReusingSolver {
         nearby: bool,
         tolerance: f64,
     ) -> Result<Solved, SolverFailure> {
+        if self.is_source(values) {
+            // PCG would only confirm the factor's own solve (a step's equilibrium corrections
+            // on the matrix its last trial factorised): one solve and a product fewer.
+            self.direct.solve(rhs);
+            return Ok(Solved::OwnFactor);
+        }
         let near = match &self.source {
             Some(s) => (nearby && s.nearby) || self.close_to_source(values),
             None => false,
@@ -200,6 +208,11 @@ impl ReusingSolver {
         Ok(())
     }
 
+    /// Whether `values` are those the factor was made of (on its pattern).
+    fn is_source(&self, values: &[f64]) -> bool {
+        self.source.as_ref().is_some_and(|s| !self.pattern_changed && s.values == values)
+    }
+
     /// Whether `values` (on the factor's pattern) are within the closeness of the factor's.
     fn close_to_source(&mut self, values: &[f64]) -> bool {
         let Some(s) = self.source.as_ref().filter(|s| !self.pattern_changed && s.values.len() == values.len()) else {
@@ -231,7 +244,8 @@ impl ReusingSolver {
         self.direct.factorize(pattern, values)?;
         self.counts.factorizations += 1;
         self.renew = false;
-        if self.reuse.enabled && (nearby || self.reuse.closeness > 0.0) {
+        // Kept whatever its kind: a system on this very matrix is solved on the factor.
+        if self.reuse.enabled {
             self.source = Some(match old {
                 Some(mut s) if same_pattern && s.values.len() == values.len() => {
                     s.values.copy_from_slice(values);
@@ -373,11 +387,13 @@ mod tests {
     #[test]
     fn a_matrix_that_is_not_nearby_or_too_far_is_factorised() {
         let (p, v0) = grid(5, |_| 6.5);
+        // Near enough for PCG (a percent stiffer), but not of the nearby kind.
+        let (_, v1) = grid(5, |_| 6.5 * 1.01);
         // Far: a thousandfold stiffer along many equations (contact springs closing).
         let (_, far) = grid(5, |j| if j % 3 == 0 { 6500.0 } else { 6.5 });
         let mut s = solver(4);
         s.solve(&p, &v0, &mut rhs(p.n), true).unwrap();
-        assert_eq!(s.solve(&p, &v0, &mut rhs(p.n), false), Ok(Solved::Factorized), "not nearby");
+        assert_eq!(s.solve(&p, &v1, &mut rhs(p.n), false), Ok(Solved::Factorized), "not nearby");
         // A factor made of a matrix that was not nearby is not reused either.
         assert_eq!(s.solve(&p, &v0, &mut rhs(p.n), true), Ok(Solved::Factorized), "source not nearby");
         let mut x = rhs(p.n);
@@ -386,6 +402,24 @@ mod tests {
         let mut exact = rhs(p.n);
         solver(4).solve(&p, &far, &mut exact, true).unwrap();
         assert_eq!(x, exact, "the fallback is the direct solve");
+    }
+
+    #[test]
+    fn the_factors_own_matrix_is_solved_on_it_once_whatever_its_kind() {
+        let (p, v0) = grid(5, |_| 6.5);
+        let (_, v1) = grid(5, |_| 6.5 * 1.01);
+        for nearby in [false, true] {
+            let mut s = solver(20);
+            let mut first = rhs(p.n);
+            assert_eq!(s.solve(&p, &v0, &mut first, nearby), Ok(Solved::Factorized));
+            // The same matrix again: the factor's own solve, bit for bit, no PCG, no factorisation.
+            let mut again = rhs(p.n);
+            assert_eq!(s.solve(&p, &v0, &mut again, nearby), Ok(Solved::OwnFactor));
+            assert_eq!(again, first);
+            assert_eq!(s.counts, SolveCounts { factorizations: 1, ..SolveCounts::default() });
+            // Another matrix is not the factor's own.
+            assert_ne!(s.solve(&p, &v1, &mut rhs(p.n), nearby), Ok(Solved::OwnFactor));
+        }
     }
 
     #[test]

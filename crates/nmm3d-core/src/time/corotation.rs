@@ -161,6 +161,12 @@ pub fn internal_force_and_tension(sys: &System, state: &Motion, e: usize, r: &Ma
     (force(sys, state, e, r, &u), tensile_part(&local_stress(sys, e, &u)))
 }
 
+/// The tensile part σ⁺ of ME `e`'s co-rotated stress at rotation `r` (as
+/// [`internal_force_and_tension`] gives it).
+pub fn tension(sys: &System, state: &Motion, e: usize, r: &Mat3) -> Mat3 {
+    tensile_part(&local_stress(sys, e, &local_displacements(sys, state, e, r)))
+}
+
 fn force(sys: &System, state: &Motion, e: usize, r: &Mat3, u: &[Vec3]) -> Vec<Vec3> {
     let k = sys.kernel(e);
     let n = k.n;

@@ -120,9 +120,10 @@ fn shared(sys: &System) -> bool {
 /// chunk at a time in parallel and scattered in order (the same sums whatever the thread count).
 fn add_tangents(sys: &System, values: &mut [f64], poses: &[(usize, Pose)]) {
     for chunk in poses.chunks(ELEMENT_CHUNK) {
-        let local: Vec<Vec<f64>> = chunk.par_iter().map(|(e, (r, t))| corotation::tangent(sys, *e, r, t)).collect();
+        let local: Vec<Vec<f64>> =
+            chunk.par_iter().map(|(e, (r, t))| sys.assembler.mapped(*e, corotation::tangent(sys, *e, r, t))).collect();
         for ((e, _), t) in chunk.iter().zip(local) {
-            sys.assembler.add(values, *e, &t);
+            sys.assembler.add_mapped(values, *e, &t);
         }
     }
 }

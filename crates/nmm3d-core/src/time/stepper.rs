@@ -60,6 +60,9 @@ pub struct Stepper {
     /// The displacements `initialize` assembled at and the unbalanced force it found (taken
     /// by the first step, see `assembled`).
     pub(super) fresh: Option<(Vec<Vec3>, Vec<Vec3>)>,
+    /// The elements' rotations and forces where the last step's equilibrium left it (taken by
+    /// the next step's start, see `residual::EndForces`).
+    pub(super) end_forces: Option<super::residual::EndForces>,
 }
 
 impl Stepper {
@@ -99,6 +102,7 @@ impl Stepper {
             free_fall: FreeFallPlan::new(sys),
             lumped_mass: lumped_mass(sys),
             fresh: None,
+            end_forces: None,
         }
     }
 

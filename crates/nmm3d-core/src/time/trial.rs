@@ -90,6 +90,7 @@ impl Stepper {
         match solved {
             Solved::Factorized => self.times.factorization += t.elapsed().as_secs_f64(),
             Solved::Krylov(_) => self.times.krylov += t.elapsed().as_secs_f64(),
+            Solved::OwnFactor => self.times.solve += t.elapsed().as_secs_f64(),
         }
         let t = Instant::now();
         let mut d = vec![Vec3::zeros(); residual.len()];
