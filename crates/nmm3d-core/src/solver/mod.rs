@@ -67,6 +67,11 @@ pub trait LinearSolver: Send {
     fn name(&self) -> &'static str {
         "direct"
     }
+    /// Its solve of the factorised matrix is exact (a direct factor). An iterative solver's is
+    /// not: its systems on that matrix keep going through its own nearby solves.
+    fn exact(&self) -> bool {
+        true
+    }
     /// Iterations the solver made inside its own solves so far (an iterative solver's).
     fn iterations(&self) -> u64 {
         0

@@ -208,9 +208,10 @@ impl ReusingSolver {
         Ok(())
     }
 
-    /// Whether `values` are those the factor was made of (on its pattern).
+    /// Whether `values` are those the factor was made of (on its pattern), and the factor
+    /// solves them exactly.
     fn is_source(&self, values: &[f64]) -> bool {
-        self.source.as_ref().is_some_and(|s| !self.pattern_changed && s.values == values)
+        self.direct.exact() && self.source.as_ref().is_some_and(|s| !self.pattern_changed && s.values == values)
     }
 
     /// Whether `values` (on the factor's pattern) are within the closeness of the factor's.

@@ -278,6 +278,10 @@ impl LinearSolver for AmgSolver {
         "amg"
     }
 
+    fn exact(&self) -> bool {
+        false
+    }
+
     fn iterations(&self) -> u64 {
         self.iterations
     }
@@ -390,6 +394,18 @@ mod tests {
         direct.solve(&mut exact);
         let scale = exact.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         assert!(x.iter().zip(&exact).all(|(a, b)| (a - b).abs() < 1e-7 * scale));
+    }
+
+    #[test]
+    fn the_hierarchys_own_matrix_is_still_solved_by_its_nearby_iterations() {
+        use crate::solver::{FactorReuse, ReusingSolver, Solved};
+        let (p, v, positions) = elastic_block(8);
+        let amg = AmgSolver::new(positions, AmgParams { coarse_size: 100, ..AmgParams::default() });
+        let reuse = FactorReuse { enabled: true, tolerance: 1e-10, max_iterations: 12, closeness: 1e-6 };
+        let mut s = ReusingSolver::new(Box::new(amg), reuse);
+        assert_eq!(s.solve(&p, &v, &mut load(p.n), true), Ok(Solved::Factorized));
+        // Not an exact solve on a factor: the same matrix again goes through the hierarchy's PCG.
+        assert!(matches!(s.solve(&p, &v, &mut load(p.n), true), Ok(Solved::Krylov(_))));
     }
 
     #[test]
