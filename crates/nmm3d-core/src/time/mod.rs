@@ -8,6 +8,7 @@ pub mod contact_pattern;
 pub mod corotation;
 mod counters;
 pub mod cut;
+mod end_forces;
 pub mod energy;
 mod equilibrate;
 mod finish;

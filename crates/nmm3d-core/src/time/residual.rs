@@ -5,6 +5,7 @@ use nmm3d_geom::{Mat3, Vec3};
 use rayon::prelude::*;
 
 use super::corotation;
+use super::end_forces::{ElementForces, EndForces};
 use super::kept_tangent::{KeptTangent, Pose, ELEMENT_CHUNK};
 use super::stepper::Stepper;
 use crate::state::Motion;
@@ -57,20 +58,6 @@ impl Stepper {
         residual
     }
 }
-
-/// The moving elements' rotations and forces at the displacements `u`, each rotation found from
-/// the guess in `guesses` (the rotations of the state then). A step's last equilibrium
-/// correction measures them where the step ends; the next step starts there from the same
-/// guesses, and would find the same rotations and forces bit for bit — so it takes them and
-/// only adds what they lack (tension, tangent), one element loop fewer per step.
-pub(super) struct EndForces {
-    u: Vec<Vec3>,
-    guesses: Vec<Mat3>,
-    elements: Vec<ElementForces>,
-}
-
-/// An ME's index, rotation and internal force per cover.
-type ElementForces = (usize, Mat3, Vec<Vec3>);
 
 /// Where the tangent goes: its values, and the kept elements' part with the angle beyond which
 /// a block's part is made afresh (0: every part whose MEs moved at all).

@@ -61,8 +61,8 @@ pub struct Stepper {
     /// by the first step, see `assembled`).
     pub(super) fresh: Option<(Vec<Vec3>, Vec<Vec3>)>,
     /// The elements' rotations and forces where the last step's equilibrium left it (taken by
-    /// the next step's start, see `residual::EndForces`).
-    pub(super) end_forces: Option<super::residual::EndForces>,
+    /// the next step's start).
+    pub(super) end_forces: Option<super::end_forces::EndForces>,
 }
 
 impl Stepper {
