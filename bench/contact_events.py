@@ -34,7 +34,7 @@ DOMINOS = [
 ]
 TUNNEL = [
     ("factor reuse by closeness (1e-6)", "tunnel_key_blocks.toml", []),
-    ("closed contacts always factorised (0)", "tunnel_key_blocks.toml", ["analysis.factor_reuse_closeness=0"]),
+    ("closeness off (0): only identical matrices on the factor", "tunnel_key_blocks.toml", ["analysis.factor_reuse_closeness=0"]),
 ]
 
 
