@@ -32,8 +32,7 @@ impl Stepper {
             kept: self.kept.as_mut().map(|k| (k, if keep { angle } else { 0.0 })),
         });
         let known = self.end_forces.take().filter(|k| k.u == state.u && k.guesses == state.rotations);
-        let elements = known.as_ref().map(|k| k.elements.as_slice());
-        for (e, r, _) in subtract_inner_forces(sys, state, &mut residual, tangent, elements) {
+        for (e, r, _) in subtract_inner_forces(sys, state, &mut residual, tangent, known.map(|k| k.elements)) {
             state.rotations[e] = r;
         }
         residual
@@ -75,12 +74,12 @@ fn subtract_inner_forces(
     state: &Motion,
     residual: &mut [Vec3],
     tangent: Option<Tangent>,
-    known: Option<&[ElementForces]>,
+    known: Option<Vec<ElementForces>>,
 ) -> Vec<ElementForces> {
     // Fixed blocks' covers cannot move; their forces would go nowhere.
     let moving: Vec<usize> =
         (0..sys.covers.elements.len()).filter(|&e| !sys.geometry.blocks[sys.covers.elements[e].block].fixed).collect();
-    let known = known.filter(|k| k.iter().map(|x| x.0).eq(moving.iter().copied()));
+    let mut known = known.filter(|k| k.iter().map(|x| x.0).eq(moving.iter().copied())).map(Vec::into_iter);
     let mut forces = Vec::with_capacity(moving.len());
     let (with_tangent, whole) = (tangent.is_some(), tangent.as_ref().is_some_and(|t| t.kept.is_none()));
     let (mut values, mut kept) = match tangent {
@@ -94,10 +93,13 @@ fn subtract_inner_forces(
     // The local blocks of a chunk in parallel, scattered in element order: the same sums in the
     // same order whatever the thread count (bit-identical results), and memory for one chunk's
     // blocks only.
-    for (k, chunk) in moving.chunks(ELEMENT_CHUNK).enumerate() {
-        let known = known.map(|x| &x[k * ELEMENT_CHUNK..k * ELEMENT_CHUNK + chunk.len()]);
-        let local: Vec<Local> = (chunk.par_iter().enumerate())
-            .map(|(i, &e)| local(sys, state, e, (with_tangent, whole), known.map(|x| &x[i])))
+    for chunk in moving.chunks(ELEMENT_CHUNK) {
+        let given: Vec<Option<ElementForces>> = match known.as_mut() {
+            Some(k) => k.by_ref().take(chunk.len()).map(Some).collect(),
+            None => (0..chunk.len()).map(|_| None).collect(),
+        };
+        let local: Vec<Local> = (chunk.par_iter().zip(given))
+            .map(|(&e, known)| local(sys, state, e, (with_tangent, whole), known))
             .collect();
         for (&e, (r, fint, tension, t)) in chunk.iter().zip(local) {
             match values.as_deref_mut() {
@@ -129,10 +131,10 @@ fn local(
     state: &Motion,
     e: usize,
     (with_tangent, whole): (bool, bool),
-    known: Option<&ElementForces>,
+    known: Option<ElementForces>,
 ) -> Local {
     let (r, fint, tension) = match known {
-        Some((_, r, fint)) => (*r, fint.clone(), with_tangent.then(|| corotation::tension(sys, state, e, r))),
+        Some((_, r, fint)) => (r, fint, with_tangent.then(|| corotation::tension(sys, state, e, &r))),
         None => {
             let r = corotation::rotation(&corotation::deformation_gradient(sys, state, e), &state.rotations[e]);
             match with_tangent {
