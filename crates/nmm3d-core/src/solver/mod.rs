@@ -72,6 +72,12 @@ pub trait LinearSolver: Send {
     fn exact(&self) -> bool {
         true
     }
+    /// What a numeric factorisation of the current analysis costs in PCG iterations on its
+    /// factor (arithmetic of LLᵀ over that of two triangular solves and a product); `None`:
+    /// not known (iterative solvers), never weighed.
+    fn factorization_cost(&self) -> Option<f64> {
+        None
+    }
     /// Iterations the solver made inside its own solves so far (an iterative solver's).
     fn iterations(&self) -> u64 {
         0

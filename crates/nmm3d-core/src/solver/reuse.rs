@@ -11,7 +11,12 @@
 //! gaps on which the open–close rules decide (the dominos took twice the iterations). So a
 //! matrix with closed contact springs is factorised (`docs/theory/solver.md`) — unless it is
 //! close to the factor's own matrix entry by entry (`closeness`): the same contact states and
-//! penalties, a co-rotated tangent turned by round-off, as in a block system at rest.
+//! penalties, a co-rotated tangent turned by round-off, as in a block system at rest. Such
+//! solves are weighed against a new factorisation (the ski-rental rule, Karlin et al. 1988):
+//! once the PCG iterations spent on them since the factor was made cost as much as making it
+//! ([`LinearSolver::factorization_cost`]), the next one is factorised — the rule that pays at
+//! most twice the best choice made in hindsight when renting (iterating) goes on until buying
+//! (factorising).
 //!
 //! The result depends on which matrix the factor was made of, so that matrix is part of the
 //! run's state ([`FactorSnapshot`]): a resumed run re-makes the same factor and continues bit
@@ -80,6 +85,9 @@ pub struct FactorSnapshot {
     /// The pattern changed since the last factorisation (checkpoints before it: assumed).
     #[serde(default = "default_true")]
     pub pattern_changed: bool,
+    /// PCG iterations spent on matrices only close to the factor's since it was made.
+    #[serde(default)]
+    pub spent: u64,
     /// Counters so far.
     pub counts: SolveCounts,
 }
@@ -108,6 +116,9 @@ pub struct ReusingSolver {
     /// The pattern changed since the factor was made (the next factorisation re-analyses).
     pattern_changed: bool,
     renew: bool,
+    /// PCG iterations on matrices only close to the factor's since it was made: once they
+    /// cost a factorisation, the next such matrix is factorised.
+    spent: u64,
     /// The largest |value| of the source, once a closeness test needed it (a pass over the
     /// whole matrix per solve otherwise).
     scale: Option<f64>,
@@ -119,7 +130,7 @@ impl ReusingSolver {
     /// Reuse `direct`'s factors as `reuse` says.
     pub fn new(direct: Box<dyn LinearSolver>, reuse: FactorReuse) -> Self {
         let counts = SolveCounts::default();
-        Self { direct, reuse, source: None, pattern_changed: false, renew: false, scale: None, counts }
+        Self { direct, reuse, source: None, pattern_changed: false, renew: false, spent: 0, scale: None, counts }
     }
 
     /// The values of the matrix the current factor (or hierarchy) was made of, on its pattern.
@@ -155,12 +166,11 @@ impl ReusingSolver {
             self.direct.solve(rhs);
             return Ok(Solved::OwnFactor);
         }
-        let near = match &self.source {
-            Some(s) => (nearby && s.nearby) || self.close_to_source(values),
-            None => false,
-        };
-        if near && !self.renew {
-            if let Some(iterations) = self.solve_on_factor(pattern, values, rhs, tolerance.max(self.reuse.tolerance)) {
+        let kin = self.source.as_ref().is_some_and(|s| nearby && s.nearby);
+        let close = !kin && self.close_to_source(values);
+        if (kin || close) && !self.renew {
+            let tolerance = tolerance.max(self.reuse.tolerance);
+            if let Some(iterations) = self.solve_on_factor(pattern, values, rhs, (tolerance, close)) {
                 return Ok(Solved::Krylov(iterations));
             }
         }
@@ -171,8 +181,15 @@ impl ReusingSolver {
 
     /// Solve in place by iterations on the last factor: the solver's own (multigrid), else PCG
     /// preconditioned by the factor. Their iterations if they converged; `None` (counted a
-    /// failure, `rhs` untouched) if not.
-    fn solve_on_factor(&mut self, pattern: &SparsityPattern, values: &[f64], rhs: &mut [f64], tol: f64) -> Option<u32> {
+    /// failure, `rhs` untouched) if not. `close`: the matrix is only close to the factor's
+    /// (contact springs), and its iterations are weighed against a new factorisation.
+    fn solve_on_factor(
+        &mut self,
+        pattern: &SparsityPattern,
+        values: &[f64],
+        rhs: &mut [f64],
+        (tol, close): (f64, bool),
+    ) -> Option<u32> {
         let converged = match self.direct.solve_nearby(pattern, values, rhs) {
             Some(out) => out.converged.then_some(out.iterations),
             None => {
@@ -182,6 +199,10 @@ impl ReusingSolver {
                 let out = pcg(pattern, values, rhs, &mut x, |r| direct.solve(r), tol, max);
                 self.counts.krylov_iterations += u64::from(out.iterations);
                 self.renew = out.converged && 2 * out.iterations > max;
+                if close {
+                    self.spent += u64::from(out.iterations);
+                    self.renew |= self.direct.factorization_cost().is_some_and(|c| self.spent as f64 >= c);
+                }
                 out.converged.then(|| {
                     rhs.copy_from_slice(&x);
                     out.iterations
@@ -244,7 +265,7 @@ impl ReusingSolver {
         self.scale = None;
         self.direct.factorize(pattern, values)?;
         self.counts.factorizations += 1;
-        self.renew = false;
+        (self.renew, self.spent) = (false, 0);
         // Kept whatever its kind: a system on this very matrix is solved on the factor.
         if self.reuse.enabled {
             self.source = Some(match old {
@@ -271,9 +292,9 @@ impl ReusingSolver {
         // With a source, an analysis no pattern was adopted on since is the source's own.
         let analysed = (self.direct.analysed_pattern(self.source.is_none()))
             .filter(|a| self.source.as_ref().is_none_or(|s| s.pattern != *a));
-        let (source, renew, pattern_changed, counts) =
-            (self.source.clone(), self.renew, self.pattern_changed, self.counts);
-        FactorSnapshot { source, analysed, renew, pattern_changed, counts }
+        let (source, renew, pattern_changed, spent, counts) =
+            (self.source.clone(), self.renew, self.pattern_changed, self.spent, self.counts);
+        FactorSnapshot { source, analysed, renew, pattern_changed, spent, counts }
     }
 
     /// Continue from a snapshot: re-make its analysis and factor.
@@ -290,7 +311,7 @@ impl ReusingSolver {
         }
         // Without a source the last factorised pattern is unknown: adopt the next one.
         self.pattern_changed = s.pattern_changed || (s.source.is_none() && s.analysed.is_some());
-        (self.source, self.renew, self.counts, self.scale) = (s.source, s.renew, s.counts, None);
+        (self.source, self.renew, self.spent, self.counts, self.scale) = (s.source, s.renew, s.spent, s.counts, None);
         Ok(())
     }
 
@@ -439,6 +460,52 @@ mod tests {
         solver(20).solve(&p, &close, &mut exact, false).unwrap();
         assert!(max_difference(&x, &exact) <= 1e-10 * exact.iter().map(|x| x.abs()).fold(0.0, f64::max));
         assert_eq!(s.solve(&p, &apart, &mut rhs(p.n), false), Ok(Solved::Factorized), "a spring changed");
+    }
+
+    #[test]
+    fn close_matrices_are_solved_on_the_factor_until_their_iterations_cost_a_factorisation() {
+        // Ski rental: PCG on matrices only close to the factor's (contact springs at rest)
+        // until the iterations spent cost as much as a factorisation, then a factorisation.
+        let (p, v0) = grid(6, |_| 6.5);
+        let close = |k: usize| grid(6, |j| 6.5 * (1.0 + 1e-7 * ((j + 7 * k) as f64).sin())).1;
+        let reuse = FactorReuse { enabled: true, tolerance: 1e-14, max_iterations: 50, closeness: 1e-6 };
+        let new = || ReusingSolver::new(Box::new(FaerCholesky::new(Ordering::Amd)), reuse);
+        let mut s = new();
+        s.solve(&p, &v0, &mut rhs(p.n), false).unwrap();
+        let cost = s.direct.factorization_cost().expect("a direct factor knows its cost");
+        assert!(cost > 1.0, "a factorisation costs more than an iteration: {cost}");
+        let (mut spent, mut refactorised, mut copy) = (0u32, 0, None);
+        for k in 1..60 {
+            if k == 5 {
+                let snap = serde_json::to_string(&s.snapshot()).unwrap();
+                let mut b = new();
+                b.restore(serde_json::from_str(&snap).unwrap()).unwrap();
+                copy = Some(b);
+            }
+            let got = s.solve(&p, &close(k), &mut rhs(p.n), false).unwrap();
+            if let Some(b) = copy.as_mut() {
+                assert_eq!(b.solve(&p, &close(k), &mut rhs(p.n), false), Ok(got), "restored at {k}");
+            }
+            match got {
+                Solved::Krylov(it) => {
+                    assert!(f64::from(spent) < cost, "PCG at {k} after {spent} iterations");
+                    spent += it;
+                }
+                Solved::Factorized => {
+                    assert!(f64::from(spent) >= cost, "factorised at {k} after only {spent} iterations");
+                    (spent, refactorised) = (0, refactorised + 1);
+                }
+                Solved::OwnFactor => unreachable!("every matrix differs"),
+            }
+        }
+        assert!(refactorised >= 2, "{refactorised} factorisations in 59 close solves (cost {cost})");
+        // Matrices of the nearby kind (no contact springs) are not weighed so: their factor
+        // serves until PCG needs half its budget.
+        let mut s = solver(50);
+        s.solve(&p, &v0, &mut rhs(p.n), true).unwrap();
+        for k in 1..60 {
+            assert!(matches!(s.solve(&p, &close(k), &mut rhs(p.n), true), Ok(Solved::Krylov(_))), "{k}");
+        }
     }
 
     #[test]

@@ -145,8 +145,9 @@ pub struct Analysis {
     pub krylov_max_iterations: u32,
     /// A matrix whose every entry differs from the last factorised one's by at most this
     /// fraction of that matrix's largest entry is solved on its factor whatever its contact
-    /// springs (the same contact states, a block system at rest); 0: only matrices without
-    /// closed contacts are [-] (addition).
+    /// springs (the same contact states, a block system at rest) until the PCG iterations
+    /// spent on such matrices cost a factorisation; 0: only matrices without closed contacts
+    /// are [-] (addition).
     pub factor_reuse_closeness: f64,
     /// Memory a run may plan to use [B]; a scenario estimated beyond it is refused as input;
     /// 0 = 80 % of this machine's memory (addition).
