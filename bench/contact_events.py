@@ -33,7 +33,7 @@ DOMINOS = [
     for label, rounds in (("lagged verification", 3), ("without it", 0))
 ]
 TUNNEL = [
-    ("factor reuse by closeness (1e-6)", "tunnel_key_blocks.toml", []),
+    ("factor reuse by closeness (1e-6) until its PCG iterations cost a factorisation", "tunnel_key_blocks.toml", []),
     ("closeness off (0): only identical matrices on the factor", "tunnel_key_blocks.toml", ["analysis.factor_reuse_closeness=0"]),
 ]
 
