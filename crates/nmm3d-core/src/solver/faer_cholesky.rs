@@ -51,7 +51,7 @@ pub struct FaerCholesky {
     supernode_of: Vec<u32>,
     /// The pattern the analysis was made of, kept once another pattern was adopted on it.
     analysed: Option<SparsityPattern>,
-    /// Floating-point operations of a numeric factorisation on the analysis ([`factor_flops`]).
+    /// A numeric factorisation on the analysis, in triangular-solve flops ([`factor_flops`]).
     factor_flops: f64,
     symbolic_seconds: f64,
     numeric_seconds: f64,
@@ -120,7 +120,8 @@ impl FaerCholesky {
 /// (c_j: the entries of column j, as left-looking Cholesky counts them; George and Liu 1981,
 /// §2.2), in a supernode of w columns above m rows column k from its end holding k + m; a
 /// supernode's dense kernels do up to [`DENSE_SPEEDUP`] of them in the time a triangular
-/// solve does one, and each supernode costs [`SUPERNODE_OVERHEAD`] besides.
+/// solve does one, and each supernode costs [`SUPERNODE_OVERHEAD`] besides (a simplicial
+/// factor, which the analysis never makes: the flops alone).
 fn factor_flops(s: &SymbolicCholesky<u32>) -> f64 {
     match s.raw() {
         SymbolicCholeskyRaw::Supernodal(sn) => (0..sn.n_supernodes())
