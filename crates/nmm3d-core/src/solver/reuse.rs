@@ -166,9 +166,9 @@ impl ReusingSolver {
             self.direct.solve(rhs);
             return Ok(Solved::OwnFactor);
         }
-        let kin = self.source.as_ref().is_some_and(|s| nearby && s.nearby);
-        let close = !kin && self.close_to_source(values);
-        if (kin || close) && !self.renew {
+        let nearby_kind = self.source.as_ref().is_some_and(|s| nearby && s.nearby);
+        let close = !nearby_kind && self.close_to_source(values);
+        if (nearby_kind || close) && !self.renew {
             let tolerance = tolerance.max(self.reuse.tolerance);
             if let Some(iterations) = self.solve_on_factor(pattern, values, rhs, (tolerance, close)) {
                 return Ok(Solved::Krylov(iterations));
