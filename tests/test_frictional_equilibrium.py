@@ -68,8 +68,21 @@ def soft_tunnel(method: str, max_settle_steps: int) -> dict:
     return data
 
 
+def test_the_tunnel_on_1_mpa_joints_settles_without_wandering(tmp_path):
+    """Joints of 1 MPa/m close by centimetres, so every static step detects afresh, and points
+    found anew pushed harder or softer than the ones before: the steps wandered (unbalanced ratio
+    0.2–5) for 140–385 steps, by chance, before a configuration held. A re-detected joint now
+    also pushes at most what its points did (`contact.carry_joint_force`): 37–65 steps."""
+    result = run(soft_tunnel("frictional", 100), tmp_path / "run")
+    settled = result.summary["initial_equilibrium"]
+    assert settled["converged"], settled
+    roof = result.history["roof_key_block.displacement.z"]
+    assert roof[0] < -0.02, "1 MPa/m joints close by centimetres under the rock's weight"
+    assert abs(roof[-1] - roof[0]) < 1e-6, f"the roof key block moved {roof[-1] - roof[0]} m after release"
+
+
 def test_a_settling_that_runs_out_of_steps_says_what_to_try(tmp_path):
-    # 1 MPa/m joints: the frictional static steps need 153 steps at the default settle_dt,
+    # 1 MPa/m joints: the frictional static steps need 37–65 steps at the default settle_dt,
     # the lock does not converge; stopped after 8, each warning names the other remedy.
     for method, remedy in [("frictional", "analysis.settle_dt"), (True, 'initial_equilibrium = "frictional"')]:
         result = run(soft_tunnel(method, 8), tmp_path / str(method))

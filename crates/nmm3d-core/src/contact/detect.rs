@@ -111,9 +111,7 @@ impl ContactSurfaces {
         }
         if !initial {
             let changed = joint_force::redetected(rule, &previous, &by_pair, &mut h.records);
-            if rule == Redetection::CarryForce {
-                h.carried_forces += changed as u64;
-            }
+            h.carried_forces += changed.carried_force as u64;
         }
         self.times.detection += clock.elapsed().as_secs_f64();
     }

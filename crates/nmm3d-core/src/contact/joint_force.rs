@@ -5,10 +5,10 @@
 //! Three rules bound that (`docs/theory/contact.md`, *Joint stiffness*):
 //!
 //! * while the initial equilibrium settles, a joint found with less area than its points had
-//!   keeps their area ([`Redetection::KeepArea`]);
-//! * in a dynamic run, a pair found pushing harder than its points did at the same configuration
-//!   pushes only as hard ([`Redetection::CarryForce`]): its new points share a zero level that
-//!   takes the difference. A face contact tens of centimetres deep found again as an edge's point
+//!   keeps their area ([`Redetection::keep_area`]);
+//! * in a dynamic run and while the initial equilibrium settles, a pair found pushing harder
+//!   than its points did at the same configuration pushes only as hard
+//!   ([`Redetection::carry_force`]): its new points share a zero level that takes the difference. A face contact tens of centimetres deep found again as an edge's point
 //!   contacts (each a cover cell's face) otherwise sets ½ k_n A g² of spring energy at once —
 //!   one pair on the thesis slope on 10 MPa/m joints went from 1.0 to 190.6 kJ. 3DEC's
 //!   sub-contacts carry their normal force incrementally (ΔF_n = −k_n ΔU_n A_c, Itasca 3DEC
@@ -23,28 +23,43 @@ use rustc_hash::FxHashMap;
 use super::record::{ContactRecord, ContactState};
 use super::transfer::bound_missed_overlap;
 
-/// What a re-detected joint pair keeps from its previous points.
+/// What a re-detected joint pair keeps from its previous points; neither: the points as found
+/// ([`Redetection::TOTAL`], static analyses: the total force is path-independent).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Redetection {
-    /// The points as found (static analyses: the total force is path-independent).
-    Total,
+pub struct Redetection {
     /// The previous contact area, when less is found (the frictional initial equilibrium).
-    KeepArea,
-    /// At most the previous normal force (dynamic runs).
-    CarryForce,
+    pub keep_area: bool,
+    /// At most the previous normal force (dynamic runs, and the frictional initial equilibrium,
+    /// both with `contact.carry_joint_force`).
+    pub carry_force: bool,
+}
+
+impl Redetection {
+    /// The points as found.
+    pub const TOTAL: Self = Self { keep_area: false, carry_force: false };
+}
+
+/// How many re-detected pairs a rule changed: their area kept, their force carried.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Redetected {
+    /// Pairs whose points were scaled up to the previous area.
+    pub kept_area: usize,
+    /// Pairs whose points' zero level was lifted to push the previous force.
+    pub carried_force: usize,
 }
 
 /// Bisections for the common zero level: its bracket, the deepest overlap, halves each time.
 const LEVEL_BISECTIONS: usize = 60;
 
 /// Apply `rule` to the joint points among `records` whose pair was detected before (`by_pair`:
-/// the pair's previous points, indices into `previous`). Returns how many pairs it changed.
+/// the pair's previous points, indices into `previous`): first the area, then the force on the
+/// springs that keeping the area set. Returns how many pairs each changed.
 pub(super) fn redetected(
     rule: Redetection,
     previous: &[ContactRecord],
     by_pair: &FxHashMap<(usize, usize), Vec<usize>>,
     records: &mut [ContactRecord],
-) -> usize {
+) -> Redetected {
     let mut now: FxHashMap<(usize, usize), Vec<usize>> = FxHashMap::default();
     for (k, r) in records.iter().enumerate() {
         if r.joint_stiffness && by_pair.contains_key(&r.blocks) {
@@ -53,16 +68,16 @@ pub(super) fn redetected(
     }
     let mut pairs: Vec<_> = now.into_iter().collect();
     pairs.sort_unstable_by_key(|(blocks, _)| *blocks);
-    let mut changed = 0;
+    let mut changed = Redetected::default();
     for (blocks, now) in &pairs {
-        let was = by_pair[blocks].iter().map(|&k| &previous[k]);
-        changed += match rule {
-            Redetection::Total => false,
-            Redetection::KeepArea => keep_area(was.map(|r| r.area).sum(), now, records),
-            Redetection::CarryForce => {
-                carry_force(was.filter(|r| closed(r)).map(ContactRecord::normal_force).sum(), now, records)
-            }
-        } as usize;
+        let was = || by_pair[blocks].iter().map(|&k| &previous[k]);
+        if rule.keep_area {
+            changed.kept_area += keep_area(was().map(|r| r.area).sum(), now, records) as usize;
+        }
+        if rule.carry_force {
+            let before = was().filter(|r| closed(r)).map(ContactRecord::normal_force).sum();
+            changed.carried_force += carry_force(before, now, records) as usize;
+        }
     }
     changed
 }
@@ -146,6 +161,9 @@ mod tests {
         r
     }
 
+    const KEEP_AREA: Redetection = Redetection { keep_area: true, carry_force: false };
+    const CARRY_FORCE: Redetection = Redetection { keep_area: false, carry_force: true };
+
     fn pair() -> FxHashMap<(usize, usize), Vec<usize>> {
         [((1, 0), vec![0, 1])].into_iter().collect()
     }
@@ -158,15 +176,15 @@ mod tests {
     fn a_joint_redetected_with_less_area_keeps_what_its_points_held() {
         let previous = vec![point(0.5, true, -1e-3), point(0.5, true, -1e-3)];
         let mut now = vec![point(0.1, true, -1e-3), point(0.15, true, -1e-3)];
-        assert_eq!(redetected(Redetection::KeepArea, &previous, &pair(), &mut now), 1);
+        assert_eq!(redetected(KEEP_AREA, &previous, &pair(), &mut now).kept_area, 1);
         assert!((now.iter().map(|r| r.area).sum::<f64>() - 1.0).abs() < 1e-12);
         assert!((now[0].kn - 0.4e6).abs() < 1e-6 && (now[1].ks - 0.6e6).abs() < 1e-6);
         // More area than before, or a penalty contact (its spring is no joint's), stays as found.
         let mut more = vec![point(1.5, true, -1e-3)];
-        assert_eq!(redetected(Redetection::KeepArea, &previous, &pair(), &mut more), 0);
+        assert_eq!(redetected(KEEP_AREA, &previous, &pair(), &mut more).kept_area, 0);
         assert_eq!(more[0].area, 1.5);
         let mut penalty = vec![point(0.1, false, -1e-3)];
-        redetected(Redetection::KeepArea, &previous, &pair(), &mut penalty);
+        redetected(KEEP_AREA, &previous, &pair(), &mut penalty);
         assert_eq!(penalty[0].kn, 1e5);
     }
 
@@ -176,22 +194,34 @@ mod tests {
         // 280 kN, 11.6 kJ in the springs instead of 1 kJ.
         let previous = vec![point(0.1, true, -0.1), point(0.1, true, -0.1)];
         let mut now = vec![point(2.0, true, -0.1), point(2.0, true, -0.04)];
-        assert_eq!(redetected(Redetection::CarryForce, &previous, &pair(), &mut now), 1);
+        assert_eq!(redetected(CARRY_FORCE, &previous, &pair(), &mut now).carried_force, 1);
         assert!((force(&now) - 20e3).abs() < 1e-6, "{}", force(&now));
         assert_eq!((now[0].kn, now[1].kn), (2e6, 2e6), "the springs as stiff");
         // A common level 9 cm down: the 4 cm point holds nothing, the 10 cm one all 20 kN.
         assert!((now[0].gap0 + 0.01).abs() < 1e-12 && now[1].gap0.abs() < 1e-12, "{now:?}");
         assert!((now[0].raised + 0.09).abs() < 1e-12, "the geometric overlap still reported");
         // Pushing less, or in a static analysis, or on a penalty: as found.
-        for (rule, joint, area) in [
-            (Redetection::CarryForce, true, 0.05),
-            (Redetection::Total, true, 2.0),
-            (Redetection::CarryForce, false, 2.0),
-        ] {
+        for (rule, joint, area) in
+            [(CARRY_FORCE, true, 0.05), (Redetection::TOTAL, true, 2.0), (CARRY_FORCE, false, 2.0)]
+        {
             let mut now = vec![point(area, joint, -0.1)];
-            assert_eq!(redetected(rule, &previous, &pair(), &mut now), 0);
+            assert_eq!(redetected(rule, &previous, &pair(), &mut now), Redetected::default());
             assert_eq!(now[0].gap0, -0.1);
         }
+    }
+
+    #[test]
+    fn a_settling_joint_keeps_its_area_then_pushes_as_before_on_the_kept_springs() {
+        // Before: 2 × 0.5 m² at 1 mm, 1 kN. Found again as 0.1 + 0.15 m², both 10 mm deep: the
+        // area goes back to 1 m² (springs 0.4 and 0.6 MN/m), which at 10 mm would push 10 kN.
+        let previous = vec![point(0.5, true, -1e-3), point(0.5, true, -1e-3)];
+        let mut now = vec![point(0.1, true, -0.01), point(0.15, true, -0.01)];
+        let both = Redetection { keep_area: true, carry_force: true };
+        let changed = redetected(both, &previous, &pair(), &mut now);
+        assert_eq!(changed, Redetected { kept_area: 1, carried_force: 1 });
+        assert!((force(&now) - 1e3).abs() < 1e-6, "{}", force(&now));
+        assert!((now[0].kn - 0.4e6).abs() < 1e-6 && (now[1].kn - 0.6e6).abs() < 1e-6, "the kept springs");
+        assert!(now.iter().all(|r| (r.gap0 + 1e-3).abs() < 1e-12), "a common level 9 mm down: {now:?}");
     }
 
     #[test]
@@ -200,7 +230,7 @@ mod tests {
         open.state = ContactState::Open;
         let previous = vec![open.clone(), point(0.1, true, -0.1)];
         let mut now = vec![open, point(1.0, true, -0.1)];
-        assert_eq!(redetected(Redetection::CarryForce, &previous, &pair(), &mut now), 1);
+        assert_eq!(redetected(CARRY_FORCE, &previous, &pair(), &mut now).carried_force, 1);
         assert!((now[1].normal_force() - 10e3).abs() < 1e-6);
         assert_eq!(now[0].gap0, -0.1);
     }

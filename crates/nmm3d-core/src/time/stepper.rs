@@ -73,7 +73,7 @@ impl Stepper {
         let mut stepper = Self::on_model(sys);
         state.contact = stepper.contacts.as_ref().map(|_| ContactHistory::new(contact_params(sys)));
         if let (Some(c), Some(h)) = (stepper.contacts.as_mut(), state.contact.as_mut()) {
-            c.detect(sys, &state.motion, h, (true, f64::INFINITY, Redetection::Total));
+            c.detect(sys, &state.motion, h, (true, f64::INFINITY, Redetection::TOTAL));
             let problems = overlap_problems(sys, h, sys.scenario.contact.overlap_tolerance * sys.covers.mesh().size);
             if !problems.is_empty() {
                 return Err(Error::Scenario { file: label.to_string(), problems });
@@ -169,11 +169,8 @@ impl Stepper {
                 h.refresh(sys, state);
             } else {
                 let reach = Self::reach(sys, (state, run), state.dt.min(dt_cap));
-                let rule = match (run.relaxing, h.params.carry_joint_force && dynamic(sys, run)) {
-                    (true, _) => Redetection::KeepArea,
-                    (false, true) => Redetection::CarryForce,
-                    (false, false) => Redetection::Total,
-                };
+                let carry_force = h.params.carry_joint_force && (run.relaxing || dynamic(sys, run));
+                let rule = Redetection { keep_area: run.relaxing, carry_force };
                 c.detect(sys, state, h, (false, reach, rule));
                 run.undetected = 0.0;
             }

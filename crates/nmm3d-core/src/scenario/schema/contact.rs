@@ -105,10 +105,11 @@ pub struct ContactSpec {
     /// it when it faces the contact plane within this angle (0: off — only facets wholly in the
     /// band) [°] (addition).
     pub turned_face_angle: f64,
-    /// In a dynamic run, a joint pair on its own stiffness found again pushing harder than its
-    /// points did pushes only as hard (its normal force carried across the detection, as 3DEC's
-    /// incremental one is), and a point arriving within a step deeper than the transfer distance
-    /// pushes from there; false: the total force of the points as found (addition).
+    /// In a dynamic run and in the frictional initial equilibrium, a joint pair on its own
+    /// stiffness found again pushing harder than its points did pushes only as hard (its normal
+    /// force carried across the detection, as 3DEC's incremental one is); in a dynamic run a
+    /// point arriving within a step deeper than the transfer distance pushes from there; false:
+    /// the total force of the points as found (addition).
     pub carry_joint_force: bool,
 }
 
