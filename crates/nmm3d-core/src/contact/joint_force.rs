@@ -8,7 +8,8 @@
 //!   keeps their area ([`Redetection::keep_area`]);
 //! * in a dynamic run and while the initial equilibrium settles, a pair found pushing harder
 //!   than its points did at the same configuration pushes only as hard
-//!   ([`Redetection::carry_force`]): its new points share a zero level that takes the difference. A face contact tens of centimetres deep found again as an edge's point
+//!   ([`Redetection::carry_force`]): its new points share a zero level that takes the
+//!   difference. A face contact tens of centimetres deep found again as an edge's point
 //!   contacts (each a cover cell's face) otherwise sets ½ k_n A g² of spring energy at once —
 //!   one pair on the thesis slope on 10 MPa/m joints went from 1.0 to 190.6 kJ. 3DEC's
 //!   sub-contacts carry their normal force incrementally (ΔF_n = −k_n ΔU_n A_c, Itasca 3DEC
@@ -24,7 +25,8 @@ use super::record::{ContactRecord, ContactState};
 use super::transfer::bound_missed_overlap;
 
 /// What a re-detected joint pair keeps from its previous points; neither: the points as found
-/// ([`Redetection::TOTAL`], static analyses: the total force is path-independent).
+/// ([`Redetection::TOTAL`]: the first detection, the lock and static analyses, whose answer is
+/// the total force's — a heel that lifts loses area, which keeping it would deny).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Redetection {
     /// The previous contact area, when less is found (the frictional initial equilibrium).
