@@ -166,7 +166,7 @@ fn initial_equilibrium(sys: &System, s: &Settled) -> InitialEquilibrium {
 fn hint(method: crate::scenario::InitialEquilibrium) -> &'static str {
     match method {
         crate::scenario::InitialEquilibrium::Frictional => {
-            " (try more analysis.max_settle_steps — the thesis tunnel on 1 MPa/m joints takes 65 — or a smaller analysis.settle_dt)"
+            " (try more analysis.max_settle_steps — the thesis tunnel on 1 MPa/m joints takes 37–65 — or a smaller analysis.settle_dt)"
         }
         _ => {
             " (on joints of a given stiffness, analysis.initial_equilibrium = \"frictional\" lets them close as \
