@@ -24,7 +24,7 @@ use super::state::{State, StepperState};
 use super::step_control::{self, Verdict};
 use super::vectors::unbalanced_ratio;
 use super::vectors::{add_to, gather, lumped_mass, mass_times, scale, scatter_into, solver_error};
-use crate::contact::joint_force::Redetection;
+use crate::contact::joint_force::{Redetection, STATIC_SLACK};
 use crate::contact::{overlap_problems, ContactHistory, ContactRecord, ContactSurfaces};
 use crate::error::{Error, Result};
 use crate::scenario::AnalysisKind;
@@ -169,9 +169,12 @@ impl Stepper {
                 h.refresh(sys, state);
             } else {
                 let reach = Self::reach(sys, (state, run), state.dt.min(dt_cap));
-                let carry_force = h.params.carry_joint_force && (run.relaxing || dynamic(sys, run));
-                let rule = Redetection { keep_area: run.relaxing, carry_force };
-                c.detect(sys, state, h, (false, reach, rule));
+                // A joint keeps its force, and while settling its area; a static analysis's only
+                // beyond a slack (its answer is the total force's); the lock's nothing.
+                let no_slack = run.relaxing || dynamic(sys, run);
+                let slack = if no_slack { Some(0.0) } else { (!run.settling()).then_some(STATIC_SLACK) };
+                let carry_force = slack.filter(|_| h.params.carry_joint_force);
+                c.detect(sys, state, h, (false, reach, Redetection { keep_area: run.relaxing, carry_force }));
                 run.undetected = 0.0;
             }
         }
