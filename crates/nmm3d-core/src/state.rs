@@ -2,6 +2,8 @@
 //! measured on (the whole state, with the contact history and the stepper's counters, is
 //! [`crate::time::State`]).
 
+use std::borrow::Cow;
+
 use nmm3d_geom::{Mat3, Vec3};
 
 use crate::element::bolt::BoltState;
@@ -35,6 +37,11 @@ pub struct Motion {
     /// displacements are relative to [m/s, m].
     #[serde(default)]
     pub base: [Vec3; 2],
+    /// Where a static analysis measures `analysis.static_travel_limit` from: each cover's
+    /// displacement at the end of its initial equilibrium or at the start of its stage [m]
+    /// (empty: the reference configuration).
+    #[serde(default)]
+    pub travel_origin: Vec<Vec3>,
 }
 
 impl Motion {
@@ -65,7 +72,16 @@ impl Motion {
             rotations: vec![Mat3::identity(); sys.covers.elements.len()],
             bolts: vec![BoltState::default(); sys.bolts.len()],
             base: [Vec3::zeros(); 2],
+            travel_origin: Vec::new(),
         }
+    }
+
+    /// Each cover's displacement since the travel origin [m] (`travel_origin`).
+    pub fn travel(&self) -> Cow<'_, [Vec3]> {
+        if self.travel_origin.is_empty() {
+            return Cow::Borrowed(&self.u);
+        }
+        Cow::Owned(self.u.iter().zip(&self.travel_origin).map(|(u, o)| u - o).collect())
     }
 
     /// Displacement of cover `c` [m].

@@ -24,7 +24,7 @@ DEFAULT_TOLERANCES = {"critical_friction": 0.25, "strength_reduction": 0.01}
 class Criterion:
     """When a run counts as unstable: a displacement beyond ``displacement`` at ``time``."""
 
-    displacement: float               #: threshold on |u| [m]
+    displacement: float               #: threshold on |u| since the run's start [m]
     time: float                       #: the run's duration; |u| is taken at its end [s]
     monitors: tuple[str, ...] = ()    #: monitors judged (unstable if any exceeds)
     blocks: tuple[int, ...] | str = ()  #: per-block criterion: "all" (every moving block) or ids

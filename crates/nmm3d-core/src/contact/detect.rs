@@ -70,7 +70,7 @@ impl ContactSurfaces {
         let narrow = ContactParams { margin: p.margin.min(p.tolerance + (2.0 * reach).max(p.tolerance)), ..p };
         let boxes: Vec<Aabb> = current.par_iter().map(ConvexPolyhedron::aabb).collect();
         // Blocks a static analysis no longer holds are released: no points on them.
-        let released = sys.released(&state.u);
+        let released = sys.released(&state.travel());
         let near: Vec<Pair> = (pairs.into_iter())
             .filter(|&(i, j)| !released[pieces[i].block] && !released[pieces[j].block])
             .filter(|&(i, j)| boxes[i].separation(&boxes[j]) <= narrow.margin)
@@ -189,7 +189,7 @@ impl ContactSurfaces {
         // the pieces' faces) — their boxes overlap by as much.
         let overlap = 0.5 * p.tolerance;
         let boxes: Vec<Aabb> = current.par_iter().map(ConvexPolyhedron::aabb).collect();
-        let released = sys.released(&start.u);
+        let released = sys.released(&start.travel());
         let pairs: Vec<(usize, usize)> = (h.warning.pairs.iter().copied())
             .filter(|&(i, j)| !released[self.pieces[i].block] && !released[self.pieces[j].block])
             .filter(|&(i, j)| boxes[i].separation(&boxes[j]) <= -overlap)
@@ -238,7 +238,7 @@ impl ContactHistory {
     /// face come and go with round-off — each arrival inheriting its neighbour's springs.
     /// Points on blocks a static analysis has released (`System::released`) are dropped.
     pub fn refresh(&mut self, sys: &System, state: &Motion) {
-        let released = sys.released(&state.u);
+        let released = sys.released(&state.travel());
         self.records.retain(|r| !released[r.blocks.0] && !released[r.blocks.1]);
         self.records.iter_mut().for_each(|r| r.refresh(sys, state));
     }

@@ -9,10 +9,12 @@
 //! * in a dynamic run and while the initial equilibrium settles, a pair found pushing harder
 //!   than its points did at the same configuration pushes only as hard
 //!   ([`Redetection::carry_force`]): its new points share a zero level that takes the
-//!   difference; in a static analysis only what exceeds the previous force by more than
-//!   [`STATIC_SLACK`]. A face contact tens of centimetres deep found again as an edge's point
-//!   contacts (each a cover cell's face) otherwise sets ½ k_n A g² of spring energy at once —
-//!   one pair on the thesis slope on 10 MPa/m joints went from 1.0 to 190.6 kJ. 3DEC's
+//!   difference; in a static analysis only what exceeds the previous force by more than a
+//!   slack (`contact.static_carry_slack`): its answer is the total force's where a joint
+//!   closes smoothly, and only a face found again as a jump is lifted. A face contact tens of
+//!   centimetres deep found again as an edge's point contacts (each a cover cell's face)
+//!   otherwise sets ½ k_n A g² of spring energy at once — one pair on the thesis slope on
+//!   10 MPa/m joints went from 1.0 to 190.6 kJ. 3DEC's
 //!   sub-contacts carry their normal force incrementally (ΔF_n = −k_n ΔU_n A_c, Itasca 3DEC
 //!   manual, *Theory*: contact mechanics), and a new geometry takes only the increments; here the
 //!   springs keep their stiffness, so further closure is resisted as before, and a point that
@@ -34,7 +36,7 @@ pub struct Redetection {
     pub keep_area: bool,
     /// `Some(slack)`: at most (1 + slack) × the previous normal force (with
     /// `contact.carry_joint_force`: 0 in dynamic runs and the frictional initial equilibrium,
-    /// [`STATIC_SLACK`] in static analyses).
+    /// `contact.static_carry_slack` in static analyses).
     pub carry_force: Option<f64>,
 }
 
@@ -42,15 +44,6 @@ impl Redetection {
     /// The points as found.
     pub const TOTAL: Self = Self { keep_area: false, carry_force: None };
 }
-
-/// How much harder than before a static analysis's re-detected pair may push before it is
-/// lifted (relative). A static answer is the total force's, and a joint closing smoothly under
-/// its load is found again within a percent of its force (the eccentric footing beyond its kern:
-/// at most 0.8 %; lifted even by that, its settlement came out 3.0 % off the closed form instead
-/// of 1.4 %). A turned face found again is a jump: on the thesis tunnel at 1 MPa/m half of the
-/// lifts exceeded 7 %, a tenth 430 %, and taken whole they kept the static iteration from
-/// settling (`docs/theory/contact.md`, *Static analyses on soft joints*).
-pub const STATIC_SLACK: f64 = 0.05;
 
 /// How many re-detected pairs a rule changed: their area kept, their force carried.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -176,7 +169,8 @@ mod tests {
 
     const KEEP_AREA: Redetection = Redetection { keep_area: true, carry_force: None };
     const CARRY_FORCE: Redetection = Redetection { keep_area: false, carry_force: Some(0.0) };
-    const STATIC: Redetection = Redetection { keep_area: false, carry_force: Some(STATIC_SLACK) };
+    /// A static analysis's, at `contact.static_carry_slack`'s default.
+    const STATIC: Redetection = Redetection { keep_area: false, carry_force: Some(0.05) };
 
     fn pair() -> FxHashMap<(usize, usize), Vec<usize>> {
         [((1, 0), vec![0, 1])].into_iter().collect()

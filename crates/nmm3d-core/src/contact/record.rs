@@ -179,6 +179,14 @@ pub struct ContactParams {
     /// `contact.carry_joint_force` (false in a run that predates it).
     #[serde(default)]
     pub carry_joint_force: bool,
+    /// `contact.static_carry_slack` [-].
+    #[serde(default = "static_carry_slack")]
+    pub static_slack: f64,
+}
+
+/// `ContactParams::static_slack` of a run that predates it: the default.
+fn static_carry_slack() -> f64 {
+    crate::scenario::ContactSpec::default().static_carry_slack
 }
 
 /// `ContactParams::turned_face` of a run that predates it: off.
@@ -343,6 +351,7 @@ impl ContactParams {
             slip_turn: 0.017_45,
             turned_face: 1.0,
             carry_joint_force: false,
+            static_slack: 0.05,
             touching: 1e-3 * tolerance,
             min_share: 0.05,
             merge: 10.0 * tolerance,

@@ -183,7 +183,7 @@ pub(super) fn advance(
         rec.record(sys, whole, false)?;
         progress.step(a, state, &report);
         if until_equilibrium && state.step > 1 && report.unbalanced <= a.equilibrium_tolerance {
-            if let Some(m) = not_held(sys, &state.u) {
+            if let Some(m) = not_held(sys, &state.travel()) {
                 return Ok(End::NotConverged(format!("{m} (t = {} s, step {})", state.time, state.step)));
             }
             return Ok(End::Completed(format!(
@@ -210,8 +210,8 @@ fn not_held(sys: &System, u: &[nmm3d_geom::Vec3]) -> Option<String> {
     let limit = sys.scenario.analysis.static_travel_limit;
     (!gone.is_empty()).then(|| {
         format!(
-            "not held: {} block(s) moved beyond static_travel_limit = {limit} m from the reference \
-             configuration, the others are in equilibrium{}",
+            "not held: {} block(s) moved beyond static_travel_limit = {limit} m from where the \
+             analysis started, the others are in equilibrium{}",
             gone.len(),
             cut::named(sys, &gone[..gone.len().min(10)])
         )

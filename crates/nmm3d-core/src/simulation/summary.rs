@@ -112,7 +112,7 @@ fn not_held(sys: &System, whole: &State, rec: &Recorder, status: Status) -> Vec<
     if status != Status::NotConverged || !settled {
         return Vec::new();
     }
-    sys.beyond_travel_limit(&whole.motion.u).into_iter().map(|(b, _)| b).collect()
+    sys.beyond_travel_limit(&whole.motion.travel()).into_iter().map(|(b, _)| b).collect()
 }
 
 /// Seconds per phase: those of building the system, then of the run.

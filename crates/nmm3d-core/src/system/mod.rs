@@ -79,6 +79,8 @@ pub struct System {
     pub half_size: f64,
     /// Seconds spent building covers and assembling constant parts.
     pub timings: Vec<(String, f64)>,
+    /// Each block's vertices as its covers move them (a static analysis's travel limit).
+    pub travel_points: held::TravelPoints,
 }
 
 impl System {
@@ -141,7 +143,9 @@ impl System {
             mass_values,
             penalty,
             timings: Vec::new(),
+            travel_points: Vec::new(),
         };
+        sys.travel_points = held::travel_points(&sys.scenario, &sys.geometry, &sys.covers);
         sys.add_loads(label)?;
         sys.add_constraints(label)?;
         sys.timings = vec![("covers".into(), t_covers), ("assembly_setup".into(), t.elapsed().as_secs_f64())];

@@ -13,6 +13,7 @@ use super::state::State;
 use super::stepper::Stepper;
 use crate::contact::{ContactHistory, ContactRecord};
 use crate::element::bolt::BoltState;
+use crate::scenario::AnalysisKind;
 use crate::state::Motion;
 use crate::system::System;
 
@@ -77,6 +78,8 @@ pub fn carry(old: &System, new: &System, blocks: &[Option<usize>], state: &State
         a: Maps::carry(&m.covers, &state.motion.a, z),
         rotations: Maps::carry(&m.elements, &state.motion.rotations, nmm3d_geom::Mat3::identity()),
         bolts: bolts(old, new, &state.motion.bolts, &u),
+        // A static stage's travel starts where the stage does.
+        travel_origin: if new.scenario.analysis.kind == AnalysisKind::Static { u.clone() } else { Vec::new() },
         u,
         // A stage asking for a shorter step starts with it (a longer one is grown to).
         dt: state.motion.dt.min(new.scenario.analysis.dt),

@@ -171,6 +171,7 @@ mod tests {
             rotations: Vec::new(),
             bolts: Vec::new(),
             base: [Vec3::zeros(); 2],
+            travel_origin: Vec::new(),
         }
     }
 

@@ -86,5 +86,6 @@ pub(super) fn contact_params(sys: &System) -> ContactParams {
         damping_ratio: k.damping_ratio,
         turned_face: k.turned_face_angle.to_radians().cos(),
         carry_joint_force: k.carry_joint_force,
+        static_slack: k.static_carry_slack,
     }
 }

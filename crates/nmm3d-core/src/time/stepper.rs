@@ -24,7 +24,7 @@ use super::state::{State, StepperState};
 use super::step_control::{self, Verdict};
 use super::vectors::unbalanced_ratio;
 use super::vectors::{add_to, gather, lumped_mass, mass_times, scale, scatter_into, solver_error};
-use crate::contact::joint_force::{Redetection, STATIC_SLACK};
+use crate::contact::joint_force::Redetection;
 use crate::contact::{overlap_problems, ContactHistory, ContactRecord, ContactSurfaces};
 use crate::error::{Error, Result};
 use crate::scenario::AnalysisKind;
@@ -172,7 +172,7 @@ impl Stepper {
                 // A joint keeps its force, and while settling its area; a static analysis's only
                 // beyond a slack (its answer is the total force's); the lock's nothing.
                 let no_slack = run.relaxing || dynamic(sys, run);
-                let slack = if no_slack { Some(0.0) } else { (!run.settling()).then_some(STATIC_SLACK) };
+                let slack = if no_slack { Some(0.0) } else { (!run.settling()).then_some(h.params.static_slack) };
                 let carry_force = slack.filter(|_| h.params.carry_joint_force);
                 c.detect(sys, state, h, (false, reach, Redetection { keep_area: run.relaxing, carry_force }));
                 run.undetected = 0.0;
@@ -198,7 +198,7 @@ impl Stepper {
         } else {
             start_contact
         };
-        let unbalanced = unbalanced_ratio(sys, run, &super::held::of_held(sys, &state.u, &start_force));
+        let unbalanced = unbalanced_ratio(sys, run, &super::held::of_held(sys, &state.travel(), &start_force));
         let records = contact.as_ref().map(|h| h.records.clone());
         // The springs' energy at the start: the first step's is part of the initial energy
         // (springs loaded by the initial equilibrium or by overlapping input).
@@ -267,7 +267,7 @@ impl Stepper {
             let tolerance = analysis.settle_tolerance();
             let trial = Trial { residual: trial_residual, mv: &start.mv, ma: &start.ma, k, keep, tolerance };
             let (mut d, iterations, settled) = self.open_close(sys, (state, contact.as_mut()), &trial)?;
-            super::held::pin(sys, &state.u, &mut d);
+            super::held::pin(sys, &state.travel(), &mut d);
             let dmax = d.iter().map(|x| x.norm()).fold(0.0, f64::max);
             // Lagged verification, where the blocks may have moved into a contact unseen (not
             // while nothing has moved by the contact tolerance since the last detection); before

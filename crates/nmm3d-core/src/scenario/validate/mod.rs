@@ -84,6 +84,9 @@ pub fn problems(s: &Scenario) -> Vec<Problem> {
             format!("must lie in [0, {TURNED_FACE_LIMIT}] degrees, got {}", k.turned_face_angle),
         );
     }
+    if !(k.static_carry_slack >= 0.0 && k.static_carry_slack.is_finite()) {
+        c.fail("contact.static_carry_slack", format!("must be a finite number ≥ 0, got {}", k.static_carry_slack));
+    }
     if !(k.penalty_raise > 1.0 && k.penalty_raise.is_finite()) {
         c.fail("contact.penalty_raise", format!("must be a finite number > 1, got {}", k.penalty_raise));
     }
