@@ -82,9 +82,10 @@ def _with_criterion_monitors(task: dict[str, Any]) -> tuple[str, dict[str, str]]
 def judge(out: Path, targets: dict[str, str], criterion: dict[str, Any], completed: bool,
           released: Collection[str] = ()) -> dict[str, Any]:
     """Each target's |u| at the end, its first time beyond the threshold, and the verdicts; u
-    is the displacement since the run's first record — the settled state of its initial
-    equilibrium, not the reference configuration: soft joints close by centimetres under the
-    rock's weight (10 MPa/m: the thesis tunnel's roof key block 10–15 mm), which is no failure.
+    is the displacement since the run's first record when its initial equilibrium converged —
+    soft joints close by centimetres under the rock's weight (10 MPa/m: the thesis tunnel's roof
+    key block 10–15 mm), which is no failure — and since the reference configuration otherwise
+    (an unconverged settling may hold a block's sliding: 8 cm at 10° there).
 
     A completed run (or a static one that stopped with the blocks it does not hold beyond
     `analysis.static_travel_limit`, the others in equilibrium) is unstable where |u| at its end
@@ -92,6 +93,8 @@ def judge(out: Path, targets: dict[str, str], criterion: dict[str, Any], complet
     cannot tell: None). The monitors of the blocks such a static run did not hold (`released`:
     pinned where they crossed the limit, which may lie below the threshold) are unstable."""
     history = read_columns(out / "history.csv") if (out / "history.csv").is_file() else {}
+    summary = json.loads((out / "summary.json").read_text()) if (out / "summary.json").is_file() else {}
+    settled = (summary.get("initial_equilibrium") or {}).get("converged", False)
     limit = criterion["displacement"]
     final: dict[str, float] = {}
     detach: dict[str, float] = {}
@@ -102,7 +105,7 @@ def judge(out: Path, targets: dict[str, str], criterion: dict[str, Any], complet
         if t is None or len(t) == 0 or any(c is None for c in cols):
             unstable[target] = None
             continue
-        cols = [c - c[0] for c in cols]
+        cols = [c - c[0] for c in cols] if settled else cols
         mag = (cols[0] ** 2 + cols[1] ** 2 + cols[2] ** 2) ** 0.5
         final[target] = float(mag[-1])
         beyond = mag > limit
