@@ -128,3 +128,20 @@ def test_import_sets_the_allocators_page_defaults_unless_the_user_chose(user):
     code = "import os, nmm3d; print(os.environ['MIMALLOC_ALLOW_THP'], os.environ['MIMALLOC_PURGE_DELAY'])"
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
     assert out.stdout.split() == [user or "0", "-1"]
+
+
+def test_single_precision_factors_refined_reach_the_double_factors_answer(tmp_path):
+    """`factor_precision = "single"`: each factorisation in f32, each solve refined by CG on the
+    f64 matrix (docs/theory/solver.md, *Single-precision factors*) — the double factor's answer;
+    "auto" keeps this small factor in double precision."""
+    got = {p: run(two_blocks(6, max_steps=3, factor_precision=p), tmp_path, p) for p in ("double", "single", "auto")}
+    assert got["single"]["single_precision_factorizations"] >= 1
+    assert got["single"]["refinement_iterations"] >= 2
+    assert got["double"]["single_precision_factorizations"] == got["auto"]["single_precision_factorizations"] == 0
+    uz, want = got["single"]["final"]["top.displacement.z"], got["double"]["final"]["top.displacement.z"]
+    assert want < 0 and abs(uz - want) <= 1e-9 * abs(want)
+
+
+def test_an_unknown_factor_precision_is_named(tmp_path):
+    with pytest.raises(nmm3d.ScenarioError, match="analysis.factor_precision"):
+        nmm3d.Scenario.from_dict(two_blocks(4, factor_precision="half"))

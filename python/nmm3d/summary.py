@@ -208,6 +208,11 @@ class RunSummary:
     #: grown or shrunk matrix patterns factorised on an earlier symbolic analysis (their entries
     #: inside its factor); 0 in summaries before it
     patterns_adopted: int = 0
+    #: factorisations the direct solver made in single precision (``analysis.factor_precision``);
+    #: 0 in summaries before it
+    single_precision_factorizations: int = 0
+    #: iterations that refined the solves on those factors to double precision
+    refinement_iterations: int = 0
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> RunSummary:

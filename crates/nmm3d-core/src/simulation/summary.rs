@@ -66,6 +66,8 @@ pub(super) fn summary(sys: &System, whole: &State, stepper: &Stepper, rec: &Reco
         stages: Vec::new(),
         linear_solver: stepper.solver().name().into(),
         multigrid_iterations: stepper.solver().inner_iterations(),
+        single_precision_factorizations: stepper.solver().single_precision().0,
+        refinement_iterations: stepper.solver().single_precision().1,
         not_held_monitors: (rec.monitors.iter())
             .filter(|m| not_held.contains(&m.block))
             .map(|m| m.name.clone())

@@ -8,7 +8,9 @@
 //! graph eliminates without fill (the path theorem, Rose, Tarjan and Lueker 1976), so such a
 //! matrix fills nothing beyond the structure; only the gather map is remade.
 //! Runs sequentially (`Par::Seq`): results do not depend on the thread count, and on two
-//! cores threads did not speed faer up (`research/ecosystem.md` §3).
+//! cores threads did not speed faer up (`research/ecosystem.md` §3). Where a factorisation
+//! costs many triangular solves it is made in single precision and each solve refined to double
+//! precision on it (`single.rs`; `analysis.factor_precision`).
 
 use std::time::Instant;
 
@@ -24,14 +26,29 @@ use faer::{Conj, MatMut, Par, Side};
 
 use super::ordering::{amd, nested_dissection, Permutation};
 use super::permuted::Permuted;
+use super::single::SingleFactor;
 use super::{LinearSolver, SolverFailure};
 use crate::assembly::SparsityPattern;
-use crate::scenario::Ordering;
+use crate::scenario::{FactorPrecision, Ordering};
+
+/// With `factor_precision = "auto"`, a factorisation is made in single precision from this
+/// cost in PCG iterations on its factor ([`LinearSolver::factorization_cost`]) [-]: a refined
+/// solve takes 5–6 iterations where a double factor's takes one, and a single factorisation
+/// measured 2.4× faster on Goodman's tunnel (cost 21: its factorisations and solves 42 s → 18 s)
+/// while on the Yade-matched dominos (cost 5.6) the runs took 30 % longer.
+const SINGLE_FROM: f64 = 12.0;
 
 /// faer's sparse LLᵀ.
 #[derive(Default)]
 pub struct FaerCholesky {
     choice: Ordering,
+    precision: FactorPrecision,
+    /// The single-precision factor, when the last factorisation made one.
+    single: SingleFactor,
+    in_single: bool,
+    /// Single precision failed on this analysis (a pivot, or refinement that did not
+    /// converge): its factorisations are made in double precision.
+    double_only: bool,
     symbolic: Option<SymbolicCholesky<u32>>,
     /// The pattern in the factor's order, with the map from the source's entries.
     permuted: Option<Permuted>,
@@ -39,7 +56,7 @@ pub struct FaerCholesky {
     gathered: Vec<f64>,
     /// A right-hand side in that order (kept between solves).
     permuted_rhs: Vec<f64>,
-    /// The factor's values.
+    /// The factor's values (double precision; empty while single-precision factors serve).
     values: Vec<f64>,
     /// Scratch of the numeric factorisation, kept: it is large for supernodal factors, and a
     /// fresh one per factorisation (every open–close iteration) costs its page clearing.
@@ -61,6 +78,75 @@ impl FaerCholesky {
     /// A solver using the given ordering choice.
     pub fn new(choice: Ordering) -> Self {
         Self { choice, ..Self::default() }
+    }
+
+    /// The same with the precision of its numeric factorisations.
+    pub fn with_precision(self, precision: FactorPrecision) -> Self {
+        Self { precision, ..self }
+    }
+
+    /// Whether the next factorisation is made in single precision.
+    fn wants_single(&self) -> bool {
+        !self.double_only
+            && match self.precision {
+                FactorPrecision::Double => false,
+                FactorPrecision::Single => true,
+                FactorPrecision::Auto => self.factorization_cost().is_some_and(|c| c >= SINGLE_FROM),
+            }
+    }
+
+    /// Solve in place on the single-precision factor, refined to double precision; false if the
+    /// refinement did not converge — then the factor is made again in double precision (and
+    /// stays so on this analysis), `rhs` untouched.
+    fn solve_refined(&mut self, rhs: &mut [f64], tolerance: f64) -> bool {
+        let (s, q) = self.symbolic.as_ref().zip(self.permuted.as_ref()).expect("factorize before solve");
+        let x = &mut self.permuted_rhs;
+        x.resize(rhs.len(), 0.0);
+        q.permute_into(rhs, x);
+        let b = x.clone();
+        if self.single.solve(s, (&q.lower, &self.gathered), x, (tolerance, false)) {
+            q.unpermute_into(x, rhs);
+            return true;
+        }
+        self.double_only = true;
+        if self.factorize_double().is_ok() {
+            return false;
+        }
+        // Not positive definite in double precision where it was in single (round-off at the
+        // edge): the refined iterate, the best there is.
+        self.in_single = true;
+        let (s, q) = self.symbolic.as_ref().zip(self.permuted.as_ref()).expect("analysed");
+        let x = &mut self.permuted_rhs;
+        x.copy_from_slice(&b);
+        self.single.solve(s, (&q.lower, &self.gathered), x, (tolerance, true));
+        q.unpermute_into(x, rhs);
+        true
+    }
+
+    /// The numeric factorisation of the gathered values in double precision.
+    fn factorize_double(&mut self) -> Result<(), SolverFailure> {
+        let (s, q) = self.symbolic.as_ref().zip(self.permuted.as_ref()).expect("analysed");
+        self.in_single = false;
+        self.values.resize(s.len_val(), 0.0);
+        let l = &q.lower;
+        let sym = SymbolicSparseColMatRef::new_checked(l.n, l.n, &l.col_ptr, None, &l.row_idx);
+        let mat = SparseColMatRef::new(sym, &self.gathered);
+        let mem = self.scratch.as_mut().expect("allocated with the symbolic factorisation");
+        s.factorize_numeric_llt::<f64>(
+            &mut self.values,
+            mat,
+            Side::Lower,
+            Default::default(),
+            Par::Seq,
+            MemStack::new(mem),
+            Default::default(),
+        )
+        .map(|_| ())
+        .map_err(|e| {
+            let LltError::NonPositivePivot { index } = e;
+            // The index is in the fill-reducing order; report the original equation.
+            SolverFailure::NotPositiveDefinite { equation: q.perm.forward[index] as usize }
+        })
     }
 
     /// "nested dissection" or "amd" once the symbolic factorisation exists.
@@ -86,9 +172,11 @@ impl FaerCholesky {
         }
         let (name, permuted, s) = best.expect("one ordering analysed");
         self.ordering = Some(name);
-        self.values = vec![0.0; s.len_val()];
+        self.values = Vec::new();
         self.scratch = Some(MemBuffer::new(s.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())));
         self.solve_scratch = None;
+        self.single.reset();
+        (self.in_single, self.double_only) = (false, false);
         self.supernode_of = supernode_of(&s);
         self.factor_flops = factor_flops(&s);
         self.analysed = None;
@@ -193,24 +281,14 @@ impl LinearSolver for FaerCholesky {
         let (s, q) = (self.symbolic.as_ref(), self.permuted.as_ref());
         let (s, q) = s.zip(q).expect("analysed above");
         q.gather(values, &mut self.gathered);
-        let l = &q.lower;
-        let sym = SymbolicSparseColMatRef::new_checked(l.n, l.n, &l.col_ptr, None, &l.row_idx);
-        let mat = SparseColMatRef::new(sym, &self.gathered);
-        let mem = self.scratch.as_mut().expect("allocated with the symbolic factorisation");
-        s.factorize_numeric_llt::<f64>(
-            &mut self.values,
-            mat,
-            Side::Lower,
-            Default::default(),
-            Par::Seq,
-            MemStack::new(mem),
-            Default::default(),
-        )
-        .map_err(|e| {
-            let LltError::NonPositivePivot { index } = e;
-            // The index is in the fill-reducing order; report the original equation.
-            SolverFailure::NotPositiveDefinite { equation: q.perm.forward[index] as usize }
-        })?;
+        if self.wants_single() {
+            self.in_single = self.single.factorize(s, &q.lower, &self.gathered);
+            // A pivot lost in single precision: this analysis stays in double.
+            self.double_only = !self.in_single;
+        }
+        if !self.in_single {
+            self.factorize_double()?;
+        }
         self.numeric_seconds += t.elapsed().as_secs_f64();
         Ok(())
     }
@@ -218,6 +296,8 @@ impl LinearSolver for FaerCholesky {
     fn new_pattern(&mut self) {
         (self.symbolic, self.permuted, self.scratch, self.solve_scratch) = (None, None, None, None);
         self.analysed = None;
+        self.single.reset();
+        self.in_single = false;
     }
 
     fn adopt(&mut self, p: &SparsityPattern) -> bool {
@@ -243,6 +323,13 @@ impl LinearSolver for FaerCholesky {
     }
 
     fn solve(&mut self, rhs: &mut [f64]) {
+        self.solve_to(rhs, 0.0);
+    }
+
+    fn solve_to(&mut self, rhs: &mut [f64], tolerance: f64) {
+        if self.in_single && self.solve_refined(rhs, tolerance) {
+            return;
+        }
         let n = rhs.len();
         let (s, q) = self.symbolic.as_ref().zip(self.permuted.as_ref()).expect("factorize before solve");
         let need = s.solve_in_place_scratch::<f64>(1, Par::Seq);
@@ -259,8 +346,24 @@ impl LinearSolver for FaerCholesky {
         q.unpermute_into(x, rhs);
     }
 
+    fn precondition(&mut self, r: &mut [f64]) {
+        if !self.in_single {
+            return self.solve(r);
+        }
+        let (s, q) = self.symbolic.as_ref().zip(self.permuted.as_ref()).expect("factorize before solve");
+        let x = &mut self.permuted_rhs;
+        x.resize(r.len(), 0.0);
+        q.permute_into(r, x);
+        self.single.precondition(s, x);
+        q.unpermute_into(x, r);
+    }
+
     fn factor_nonzeros(&self) -> usize {
-        self.values.len()
+        self.symbolic.as_ref().map_or(0, |s| s.len_val())
+    }
+
+    fn single_precision(&self) -> (u64, u64) {
+        (self.single.factorizations, self.single.iterations)
     }
 
     fn factorization_cost(&self) -> Option<f64> {
@@ -453,6 +556,98 @@ mod tests {
             }
             let (p, v) = chain(12, |_| 10.0);
             assert_eq!(FaerCholesky::new(ordering).factorize(&p, &v), Ok(()));
+        }
+    }
+}
+
+#[cfg(test)]
+mod single_precision_tests {
+    use super::*;
+    use crate::solver::ordering::tests::grid as grid_pattern;
+
+    /// A grid of `m³` covers with a stiffness-like matrix: each entry −1 off the diagonal, the
+    /// diagonal the off-diagonal count plus `shift` (a shifted graph Laplacian: its condition
+    /// number grows as the shift falls).
+    fn laplacian(m: usize, shift: f64) -> (SparsityPattern, Vec<f64>) {
+        let p = grid_pattern(m, m, m);
+        let mut degree = vec![0.0; p.n];
+        for j in 0..p.n {
+            for &i in &p.row_idx[p.col_ptr[j] as usize..p.col_ptr[j + 1] as usize] {
+                if i as usize != j {
+                    (degree[i as usize], degree[j]) = (degree[i as usize] + 1.0, degree[j] + 1.0);
+                }
+            }
+        }
+        let values = (0..p.n)
+            .flat_map(|j| (p.col_ptr[j]..p.col_ptr[j + 1]).map(move |e| (j, e as usize)))
+            .map(|(j, e)| if p.row_idx[e] as usize == j { degree[j] + shift } else { -1.0 })
+            .collect();
+        (p, values)
+    }
+
+    fn solved(precision: FactorPrecision, (p, v): &(SparsityPattern, Vec<f64>)) -> (Vec<f64>, FaerCholesky) {
+        let mut f = FaerCholesky::new(Ordering::Amd).with_precision(precision);
+        f.factorize(p, v).unwrap();
+        let mut x: Vec<f64> = (0..p.n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
+        f.solve(&mut x);
+        (x, f)
+    }
+
+    fn relative(a: &[f64], b: &[f64]) -> f64 {
+        let norm = |v: &mut dyn Iterator<Item = f64>| v.map(|x| x * x).sum::<f64>().sqrt();
+        norm(&mut a.iter().zip(b).map(|(a, b)| a - b)) / norm(&mut b.iter().copied())
+    }
+
+    #[test]
+    fn a_single_precision_factor_solves_to_double_precision() {
+        let m = laplacian(8, 1e-3);
+        let (double, _) = solved(FactorPrecision::Double, &m);
+        let (single, f) = solved(FactorPrecision::Single, &m);
+        assert_eq!(f.single_precision().0, 1, "factorised in single precision");
+        assert!(f.single_precision().1 >= 2, "refined: {:?}", f.single_precision());
+        assert!(relative(&single, &double) < 1e-11, "{}", relative(&single, &double));
+        // Without the refinement the factor's own solve is a single-precision answer.
+        let mut f = f;
+        let mut raw: Vec<f64> = (0..m.0.n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
+        f.precondition(&mut raw);
+        assert!(relative(&raw, &double) > 1e-8, "{}", relative(&raw, &double));
+    }
+
+    #[test]
+    fn a_matrix_singular_in_single_precision_is_factorised_in_double() {
+        // [[1, 1 − δ], [1 − δ, 1]]: positive definite (eigenvalues δ and 2 − δ), but 1 − δ
+        // rounds to 1 in f32 — a zero pivot.
+        let delta = 1e-9;
+        let p = SparsityPattern { n: 2, col_ptr: vec![0, 2, 3], row_idx: vec![0, 1, 1] };
+        let v = vec![1.0, 1.0 - delta, 1.0];
+        let (x, f) = solved(FactorPrecision::Single, &(p, v));
+        assert_eq!(f.single_precision().0, 0);
+        // b = (−6, −4): x = A⁻¹ b by Cramer's rule.
+        let det = 1.0 - (1.0 - delta) * (1.0 - delta);
+        let exact = [(-6.0 + 4.0 * (1.0 - delta)) / det, (-4.0 + 6.0 * (1.0 - delta)) / det];
+        assert!(relative(&x, &exact) < 1e-6, "{x:?} against {exact:?}");
+    }
+
+    #[test]
+    fn a_matrix_beyond_single_precision_is_solved_in_double() {
+        // Entries of 10³⁹ overflow f32 (largest 3.4 × 10³⁸): whether the single factorisation
+        // stops at a pivot or its refinement stalls, the solve is the double factor's.
+        let (p, v) = laplacian(6, 1e-3);
+        let m = (p, v.iter().map(|x| 1e39 * x).collect::<Vec<f64>>());
+        let (double, _) = solved(FactorPrecision::Double, &m);
+        let (single, f) = solved(FactorPrecision::Single, &m);
+        assert!(f.double_only, "single precision given up on this analysis");
+        assert!(relative(&single, &double) < 1e-14, "{}", relative(&single, &double));
+    }
+
+    #[test]
+    fn auto_factorises_in_single_precision_where_a_factorisation_costs_many_solves() {
+        for (m, single) in [(4, false), (16, true)] {
+            let g = laplacian(m, 1.0);
+            let (_, f) = solved(FactorPrecision::Auto, &g);
+            let cost = f.factorization_cost().unwrap();
+            assert_eq!(cost >= SINGLE_FROM, single, "grid {m}: cost {cost}");
+            assert_eq!(f.single_precision().0 == 1, single, "grid {m}: cost {cost}");
         }
     }
 }

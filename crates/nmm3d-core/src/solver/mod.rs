@@ -7,6 +7,7 @@ pub mod ordering;
 pub mod pcg;
 mod permuted;
 mod reuse;
+mod single;
 
 pub use amg::{AmgParams, AmgSolver};
 pub use faer_cholesky::FaerCholesky;
@@ -53,6 +54,20 @@ pub trait LinearSolver: Send {
     }
     /// Solve in place with the last factorisation.
     fn solve(&mut self, rhs: &mut [f64]);
+    /// [`LinearSolver::solve`] to a relative `tolerance` (in the factor's norm) where the
+    /// solve is iterative (a factor in single precision refined); exact otherwise.
+    fn solve_to(&mut self, rhs: &mut [f64], _tolerance: f64) {
+        self.solve(rhs);
+    }
+    /// Apply the last factorisation as a preconditioner, in place: its solve, or for a factor
+    /// in single precision its triangular solves alone (the caller's PCG refines).
+    fn precondition(&mut self, r: &mut [f64]) {
+        self.solve(r);
+    }
+    /// Factorisations made in single precision and their refinement iterations so far.
+    fn single_precision(&self) -> (u64, u64) {
+        (0, 0)
+    }
     /// Stored entries of the factor of the current pattern (0 before the first factorisation).
     fn factor_nonzeros(&self) -> usize;
     /// Seconds spent in symbolic analysis and in numeric factorisation so far.

@@ -162,8 +162,9 @@ impl ReusingSolver {
     ) -> Result<Solved, SolverFailure> {
         if self.is_source(values) {
             // PCG would only confirm the factor's own solve (a step's equilibrium corrections
-            // on the matrix its last trial factorised): one solve and a product fewer.
-            self.direct.solve(rhs);
+            // on the matrix its last trial factorised): one solve and a product fewer. A factor
+            // in single precision refines it only to `tolerance`.
+            self.direct.solve_to(rhs, tolerance);
             return Ok(Solved::OwnFactor);
         }
         let nearby_kind = self.source.as_ref().is_some_and(|s| nearby && s.nearby);
@@ -196,7 +197,7 @@ impl ReusingSolver {
                 let mut x = vec![0.0; rhs.len()];
                 let direct = &mut self.direct;
                 let max = self.reuse.max_iterations;
-                let out = pcg(pattern, values, rhs, &mut x, |r| direct.solve(r), tol, max);
+                let out = pcg(pattern, values, rhs, &mut x, |r| direct.precondition(r), tol, max);
                 self.counts.krylov_iterations += u64::from(out.iterations);
                 self.renew = out.converged && 2 * out.iterations > max;
                 if close {
@@ -333,6 +334,11 @@ impl ReusingSolver {
     /// Iterations the linear solver made inside its own solves (multigrid PCG) so far.
     pub fn inner_iterations(&self) -> u64 {
         self.direct.iterations()
+    }
+
+    /// Factorisations made in single precision and their refinement iterations so far.
+    pub fn single_precision(&self) -> (u64, u64) {
+        self.direct.single_precision()
     }
 }
 

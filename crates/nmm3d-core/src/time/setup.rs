@@ -30,7 +30,7 @@ fn linear_solver(sys: &System) -> Box<dyn LinearSolver> {
         SolverChoice::Auto => sys.geometry.blocks.len() == 1 && sys.dofs.n_eq as u64 >= a.amg_min_equations,
     };
     if !amg {
-        return Box::new(FaerCholesky::new(a.ordering));
+        return Box::new(FaerCholesky::new(a.ordering).with_precision(a.factor_precision));
     }
     let mut positions = vec![[0.0; 3]; sys.dofs.n_eq / 3];
     for (kind, cover) in sys.dofs.kind.iter().zip(&sys.covers.covers) {

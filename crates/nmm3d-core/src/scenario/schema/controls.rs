@@ -69,6 +69,8 @@ pub struct Analysis {
     pub divergence_ratio: f64,
     /// Fill-reducing ordering of the sparse factorisation.
     pub ordering: Ordering,
+    /// Precision of the direct solver's numeric factorisations (addition).
+    pub factor_precision: FactorPrecision,
     /// Linear solver: "auto" (multigrid-preconditioned CG for a large single block, else the
     /// direct Cholesky), "direct" or "amg" (addition).
     pub linear_solver: SolverChoice,
@@ -175,6 +177,21 @@ pub enum Ordering {
     Smallest,
 }
 
+/// Precision of the sparse Cholesky factorisations (`docs/theory/solver.md`, *Single-precision
+/// factors*).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FactorPrecision {
+    /// Single precision, refined to double, where a factorisation costs many triangular
+    /// solves (its factor fills: jointed rock masses); double precision elsewhere.
+    #[default]
+    Auto,
+    /// Always double precision.
+    Double,
+    /// Single precision, refined to double, wherever it factorises.
+    Single,
+}
+
 /// Which linear solver solves the systems.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -232,6 +249,7 @@ impl Default for Analysis {
             divergence_ratio: 1e3,
             strain_measure: StrainMeasure::Corotational,
             ordering: Ordering::Auto,
+            factor_precision: FactorPrecision::Auto,
             linear_solver: SolverChoice::Auto,
             amg_min_equations: 20_000,
             amg_tolerance: 1e-8,

@@ -28,7 +28,7 @@ use super::faer_cholesky::FaerCholesky;
 use super::pcg::{pcg_with, PcgOutcome};
 use super::{LinearSolver, SolverFailure};
 use crate::assembly::SparsityPattern;
-use crate::scenario::Ordering;
+use crate::scenario::{FactorPrecision, Ordering};
 use bsr::Bsr;
 use csr::Csr;
 use prolong::NearNull;
@@ -145,7 +145,7 @@ impl AmgSolver {
             (a, b) = (coarse, coarse_b);
         }
         let (pattern, values) = a.to_csr().to_lower();
-        let mut direct = FaerCholesky::new(Ordering::Amd);
+        let mut direct = FaerCholesky::new(Ordering::Amd).with_precision(FactorPrecision::Double);
         direct.factorize(&pattern, &values)?;
         self.stored =
             self.levels.iter().map(|l| l.a.stored() + 2 * l.p.stored()).sum::<usize>() + direct.factor_nonzeros();
@@ -251,7 +251,7 @@ impl LinearSolver for AmgSolver {
         // one that is not positive definite leaves NaN, which fails the step.
         self.fallbacks += 1;
         let (p, v) = finest.to_lower();
-        let mut direct = FaerCholesky::new(Ordering::Auto);
+        let mut direct = FaerCholesky::new(Ordering::Auto).with_precision(FactorPrecision::Double);
         match direct.factorize(&p, &v) {
             Ok(()) => direct.solve(rhs),
             Err(_) => rhs.fill(f64::NAN),
