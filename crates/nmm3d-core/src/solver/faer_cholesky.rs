@@ -641,6 +641,17 @@ mod single_precision_tests {
     }
 
     #[test]
+    fn a_matrix_below_single_precision_is_solved_as_in_double() {
+        // Entries of 10⁻⁴⁴ are f32 subnormals of a few bits: whatever the single factor makes of them, the
+        // solve is the double factor's.
+        let (p, v) = laplacian(6, 1e-3);
+        let m = (p, v.iter().map(|x| 1e-44 * x).collect::<Vec<f64>>());
+        let (double, _) = solved(FactorPrecision::Double, &m);
+        let (single, _) = solved(FactorPrecision::Single, &m);
+        assert!(relative(&single, &double) < 1e-9, "{}", relative(&single, &double));
+    }
+
+    #[test]
     fn auto_factorises_in_single_precision_where_a_factorisation_costs_many_solves() {
         for (m, single) in [(4, false), (16, true)] {
             let g = laplacian(m, 1.0);

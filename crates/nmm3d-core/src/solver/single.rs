@@ -102,9 +102,33 @@ impl SingleFactor {
         let tol = tolerance.max(REFINED_TOLERANCE);
         let out = pcg(lower, values, b, &mut x, |r| self.precondition(s, r), tol, MAX_REFINEMENT);
         self.iterations += u64::from(out.iterations);
-        if out.converged || anyway {
+        // The criterion is in the factor's norm: a factor that lost the matrix (entries beyond
+        // f32's range or below its subnormals) can meet it with a wrong x — the true residual
+        // tells.
+        let converged = out.converged && residual(lower, values, b, &x) <= RESIDUAL_CHECK;
+        if converged || anyway {
             b.copy_from_slice(&x);
         }
-        out.converged
+        converged
+    }
+}
+
+/// Relative residual ‖b − A x‖ / ‖b‖ a refined solve must reach besides its own criterion [-]
+/// (a sanity bound, far above what the criterion leaves).
+const RESIDUAL_CHECK: f64 = 1e-6;
+
+/// ‖b − A x‖ / ‖b‖ (0 for b = 0), NaN-safe: NaN compares false against any bound.
+fn residual(lower: &SparsityPattern, values: &[f64], b: &[f64], x: &[f64]) -> f64 {
+    let mut ax = vec![0.0; b.len()];
+    lower.symmetric_times(values, x, &mut ax);
+    let norm = |v: &mut dyn Iterator<Item = f64>| v.map(|x| x * x).sum::<f64>().sqrt();
+    let nb = norm(&mut b.iter().copied());
+    let nr = norm(&mut b.iter().zip(&ax).map(|(b, a)| b - a));
+    if nb > 0.0 {
+        nr / nb
+    } else if nr == 0.0 {
+        0.0
+    } else {
+        f64::INFINITY
     }
 }
