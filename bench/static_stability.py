@@ -1,10 +1,12 @@
 """The static stability check against the dynamic study: the tunnel key blocks' critical-friction
 study (`bench/tunnel_key_blocks.py`'s, bisection over 10–45°) on dynamic runs of 1 s (the default
 integrator, and Newmark's with contact dashpots), and on static runs with
-`analysis.static_travel_limit`, one after the other in one process. Writes
+`analysis.static_travel_limit`, one after the other in one process; then both kinds again on soft
+joints (10 MPa/m) from the frictional initial equilibrium. Writes
 `docs/performance-static-stability.md`.
 
-    python bench/static_stability.py [--tolerance 0.5] [--damping-ratio 0.3] [--work DIR]
+    python bench/static_stability.py [--tolerance 0.5] [--damping-ratio 0.3] [--soft-stiffness 1e7]
+                                     [--work DIR]
 """
 
 from __future__ import annotations
@@ -25,6 +27,20 @@ PAGE = Path(__file__).resolve().parent.parent / "docs" / "performance-static-sta
 FIGURE = IMAGES / "static_stability_band.png"
 #: The static runs: Δt only regularises; pseudo-time limit [s]; travel limit [m].
 STATIC_DT, STATIC_TIME, TRAVEL_LIMIT = 1.0, 20.0, 2.0 * CRITERION
+
+
+def static(d: dict) -> dict:
+    """`d` as a static stability check."""
+    d["analysis"].update(kind="static", dt=STATIC_DT, static_travel_limit=TRAVEL_LIMIT)
+    return d
+
+
+def soft(stiffness: float) -> dict:
+    """The example on joints of `stiffness` [Pa/m] (normal and shear), from the frictional initial
+    equilibrium: the locked one does not converge on joints that close by centimetres."""
+    d = nmm3d.load(EXAMPLE, [f"joint.joint.normal_stiffness={stiffness:g}"]).to_dict()
+    d["analysis"]["initial_equilibrium"] = "frictional"
+    return d
 
 
 def run_study(d: dict, ids: list[int], tolerance: float, out: Path, t: float) -> dict:
@@ -58,7 +74,7 @@ def plot(studies: dict[str, Path], names: dict[int, str], key_angles: dict[int, 
 
     fig, axes = plt.subplots(1, len(names), figsize=(5.2 * len(names), 3.8), squeeze=False)
     for ax, (bid, name) in zip(axes[0], names.items()):
-        for (label, out), marker in zip(studies.items(), "osD^"):
+        for (label, out), marker in zip(studies.items(), "osD^v"):
             pts = [(phi, f[f"block:{bid}"]) for phi, f in finals(out) if f"block:{bid}" in f]
             if pts:
                 ax.plot(*zip(*pts), marker=marker, ms=5, lw=0.6, label=label)
@@ -79,6 +95,8 @@ def main() -> None:
     p.add_argument("--tolerance", type=float, default=0.5)
     p.add_argument("--damping-ratio", type=float, default=0.3,
                    help="contact.damping_ratio of the Newmark study (fraction of critical)")
+    p.add_argument("--soft-stiffness", type=float, default=1e7,
+                   help="joint stiffness of the soft-joint studies [Pa/m]; 0 leaves them out")
     p.add_argument("--work", type=Path, default=Path(tempfile.gettempdir()) / "nmm3d_static_stability")
     args = p.parse_args()
     load0 = os.getloadavg()[0]
@@ -93,15 +111,25 @@ def main() -> None:
     dd.setdefault("contact", {})["damping_ratio"] = args.damping_ratio
     damped = run_study(dd, list(names), args.tolerance, args.work / "damped", CRITERION_TIME)
     print("damped", damped["run_seconds"], damped["wall"], flush=True)
-    ds = nmm3d.load(EXAMPLE).to_dict()
-    ds["analysis"].update(kind="static", dt=STATIC_DT, static_travel_limit=TRAVEL_LIMIT)
-    static = run_study(ds, list(names), args.tolerance, args.work / "static", STATIC_TIME)
-    print("static", static["run_seconds"], static["wall"], flush=True)
+    static_ = run_study(static(nmm3d.load(EXAMPLE).to_dict()), list(names), args.tolerance, args.work / "static",
+                        STATIC_TIME)
+    print("static", static_["run_seconds"], static_["wall"], flush=True)
+    k = args.soft_stiffness
+    soft_rows, soft_runs = [], {}
+    if k > 0:
+        label = f"joints {k / 1e6:g} MPa/m, frictional start"
+        soft_dyn = run_study(soft(k), list(names), args.tolerance, args.work / "soft_dynamic", CRITERION_TIME)
+        print("soft dynamic", soft_dyn["run_seconds"], soft_dyn["wall"], flush=True)
+        soft_static = run_study(static(soft(k)), list(names), args.tolerance, args.work / "soft_static", STATIC_TIME)
+        print("soft static", soft_static["run_seconds"], soft_static["wall"], flush=True)
+        soft_rows = [row(f"dynamic, {CRITERION_TIME:g} s per run, {label}", soft_dyn, names),
+                     row(f"static, travel limit {TRAVEL_LIMIT:g} m, {label}", soft_static, names)]
+        soft_runs = {f"dynamic, {label}": args.work / "soft_dynamic", f"static, {label}": args.work / "soft_static"}
     key_angles = {b.id: b.mode.critical_friction_angle for b in key.values()
                   if b.mode.critical_friction_angle is not None}
     plot({"dynamic (default integrator)": args.work / "dynamic",
           f"dynamic, Newmark + dashpots ξ = {args.damping_ratio:g}": args.work / "damped",
-          "static, travel limit": args.work / "static"}, names, key_angles, FIGURE)
+          "static, travel limit": args.work / "static", **soft_runs}, names, key_angles, FIGURE)
     head = " | ".join(names.values())
     write_page(PAGE, "Static stability check against the dynamic study: the tunnel's key blocks",
                "static_stability.py", load0, [
@@ -114,23 +142,29 @@ def main() -> None:
         f"`analysis.kind = \"static\"`, Δt = {STATIC_DT:g} (a regulariser), pseudo-time limit {STATIC_TIME:g} s, "
         f"`analysis.static_travel_limit = {TRAVEL_LIMIT:g}` m: each run releases the blocks beyond it (no contact "
         "points on them), pins them where they crossed it and stops once the others are in equilibrium "
-        "(`docs/user-guide.md`, *Static or dynamic*). The three studies ran one after the other, two runs at "
-        "a time each.",
+        "(`docs/user-guide.md`, *Static or dynamic*). "
+        + (f"Then the same dynamic and static studies on joints of k_n = k_s = {k / 1e6:g} MPa/m (`--set "
+           f"joint.joint.normal_stiffness={k:g}`, the shear stiffness following) from `analysis.initial_equilibrium "
+           "= \"frictional\"`; each run's displacement counts from its settled state (`docs/studies.md`). "
+           if k > 0 else "")
+        + "The studies ran one after the other, two runs at a time each.",
         "",
         f"| runs | number | run seconds | study wall [s] | load at start | {head} |",
         "|---|---:|---:|---:|---:|" + "---|" * len(names),
         row(f"dynamic, {CRITERION_TIME:g} s per run", dynamic, names),
         row(f"dynamic, Newmark + dashpots ξ = {args.damping_ratio:g}, {CRITERION_TIME:g} s per run", damped, names),
-        row(f"static, travel limit {TRAVEL_LIMIT:g} m", static, names),
+        row(f"static, travel limit {TRAVEL_LIMIT:g} m", static_, names),
+        *soft_rows,
         "",
-        f"Static against dynamic: **{dynamic['run_seconds'] / static['run_seconds']:.1f}×** less run time, "
-        f"{dynamic['wall'] / static['wall']:.1f}× less study wall time. Block theory (`nmm3d keyblocks`): "
+        f"Static against dynamic: **{dynamic['run_seconds'] / static_['run_seconds']:.1f}×** less run time, "
+        f"{dynamic['wall'] / static_['wall']:.1f}× less study wall time. Block theory (`nmm3d keyblocks`): "
         + ", ".join(f"{names[b.id]} {b.mode.critical_friction_angle:.1f}°" for b in key.values()
                     if b.mode.critical_friction_angle is not None)
         + f". Newmark with dashpots against the default dynamic runs: {damped['run_seconds'] / dynamic['run_seconds']:.2f}× "
-        "the run time. Why the roof block's brackets differ: `docs/theory/contact.md` (*Joint elements*).",
+        "the run time. Why the roof block's brackets differ: `docs/theory/contact.md` (*Joint elements*); "
+        "on soft joints: *Travel from where the analysis starts, at the vertices* there.",
         "",
-        "Every run of the three studies, each key block's displacement at the run's end against the "
+        "Every run of the studies, each key block's displacement at the run's end against the "
         "friction angle (a static run's block stops where it crossed the travel limit):",
         "",
         f"![final displacements against φ](images/{FIGURE.name})",
