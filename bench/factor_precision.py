@@ -57,7 +57,8 @@ def main() -> None:
             runs[precision] = (run_scenario(scenario, [*sets, f"analysis.factor_precision={precision}"]), load)
             print(name, precision, round(runs[precision][0]["wall"], 1), flush=True)
         for precision in PRECISIONS:
-            lines.append(row(name, precision, *runs[precision], value, unit))
+            summary, load = runs[precision]
+            lines.append(row(name, precision, summary, value, unit, load))
         ratios.append((name, runs["double"][0]["wall"] / runs["auto"][0]["wall"],
                        runs["double"][0]["timings"]["factorization"] / runs["auto"][0]["timings"]["factorization"]))
     write_page(PAGE, "Single-precision factors: factorisations refined to double precision", "factor_precision.py",

@@ -281,11 +281,10 @@ impl LinearSolver for FaerCholesky {
         let (s, q) = (self.symbolic.as_ref(), self.permuted.as_ref());
         let (s, q) = s.zip(q).expect("analysed above");
         q.gather(values, &mut self.gathered);
-        if self.wants_single() {
-            self.in_single = self.single.factorize(s, &q.lower, &self.gathered);
-            // A pivot lost in single precision: this analysis stays in double.
-            self.double_only = !self.in_single;
-        }
+        let single = self.wants_single();
+        self.in_single = single && self.single.factorize(s, &q.lower, &self.gathered);
+        // A pivot lost in single precision: this analysis stays in double.
+        self.double_only |= single && !self.in_single;
         if !self.in_single {
             self.factorize_double()?;
         }

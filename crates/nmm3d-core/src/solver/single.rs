@@ -105,7 +105,7 @@ impl SingleFactor {
         // The criterion is in the factor's norm: a factor that lost the matrix (entries beyond
         // f32's range or below its subnormals) can meet it with a wrong x — the true residual
         // tells.
-        let converged = out.converged && residual(lower, values, b, &x) <= RESIDUAL_CHECK;
+        let converged = out.converged && residual(lower, values, b, &x) <= RESIDUAL_CHECK.max(tol.sqrt());
         if converged || anyway {
             b.copy_from_slice(&x);
         }
@@ -113,8 +113,10 @@ impl SingleFactor {
     }
 }
 
-/// Relative residual ‖b − A x‖ / ‖b‖ a refined solve must reach besides its own criterion [-]
-/// (a sanity bound, far above what the criterion leaves).
+/// Relative residual ‖b − A x‖ / ‖b‖ a refined solve must reach besides its own criterion [-],
+/// or the square root of its tolerance if larger (a step's equilibrium corrections are solved
+/// to 10⁻⁴ only): a sanity bound, far above what the criterion leaves, far below the 1 of
+/// x = 0 or the NaN of a factor that overflowed.
 const RESIDUAL_CHECK: f64 = 1e-6;
 
 /// ‖b − A x‖ / ‖b‖ (0 for b = 0), NaN-safe: NaN compares false against any bound.
