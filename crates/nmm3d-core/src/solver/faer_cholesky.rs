@@ -33,10 +33,21 @@ use crate::scenario::{FactorPrecision, Ordering};
 
 /// With `factor_precision = "auto"`, a factorisation is made in single precision from this
 /// cost in PCG iterations on its factor ([`LinearSolver::factorization_cost`]) [-]: a refined
-/// solve takes 5–6 iterations where a double factor's takes one, and a single factorisation
-/// measured 2.4× faster on Goodman's tunnel (cost 21: its factorisations and solves 42 s → 18 s)
-/// while on the Yade-matched dominos (cost 5.6) the runs took 30 % longer.
+/// solve takes about 6 iterations where a double factor's takes one. Goodman's tunnel (cost
+/// 21), alone: its factorisations and their solves 23.4 s → 14.8 s; the Yade-matched dominos
+/// (cost 5.6) ran 30 % longer on single factors (under load; docs/factor-precision.md).
 const SINGLE_FROM: f64 = 12.0;
+
+/// The share of a factorisation's cost a single-precision one saves (Goodman's tunnel, alone:
+/// 1.58× faster, 1 − 1/1.58) [-]. With `"auto"` the next factorisation is made in single
+/// precision only while the last factor's solves cost fewer extra iterations than that: a run at
+/// rest solves many times on each factor (the thesis tunnel at rest: 56 refinement iterations
+/// per factor, 13 % slower on single factors), a moving rock mass once or twice.
+const SINGLE_SAVES: f64 = 0.35;
+
+/// Refinement iterations a solve on a single factor takes beyond the double factor's one, as
+/// measured (Goodman's tunnel: 6.3 per factor) [-]: the estimate for a double factor's solves.
+const EXTRA_PER_SOLVE: f64 = 5.0;
 
 /// faer's sparse LLᵀ.
 #[derive(Default)]
@@ -49,6 +60,9 @@ pub struct FaerCholesky {
     /// Single precision failed on this analysis (a pivot, or refinement that did not
     /// converge): its factorisations are made in double precision.
     double_only: bool,
+    /// Solves made on the last factor, and the refinement iterations counted when it was made.
+    solves_on_factor: u64,
+    iterations_at_factor: u64,
     symbolic: Option<SymbolicCholesky<u32>>,
     /// The pattern in the factor's order, with the map from the source's entries.
     permuted: Option<Permuted>,
@@ -91,8 +105,20 @@ impl FaerCholesky {
             && match self.precision {
                 FactorPrecision::Double => false,
                 FactorPrecision::Single => true,
-                FactorPrecision::Auto => self.factorization_cost().is_some_and(|c| c >= SINGLE_FROM),
+                FactorPrecision::Auto => self
+                    .factorization_cost()
+                    .is_some_and(|c| c >= SINGLE_FROM && self.extra_iterations() <= SINGLE_SAVES * c),
             }
+    }
+
+    /// What the last factor's solves cost in iterations beyond one each: counted on a single
+    /// factor, estimated on a double one (0 before the first).
+    fn extra_iterations(&self) -> f64 {
+        let solves = self.solves_on_factor as f64;
+        match self.in_single {
+            true => (self.single.iterations - self.iterations_at_factor) as f64 - solves,
+            false => EXTRA_PER_SOLVE * solves,
+        }
     }
 
     /// Solve in place on the single-precision factor, refined to double precision; false if the
@@ -176,7 +202,7 @@ impl FaerCholesky {
         self.scratch = Some(MemBuffer::new(s.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())));
         self.solve_scratch = None;
         self.single.reset();
-        (self.in_single, self.double_only) = (false, false);
+        (self.in_single, self.double_only, self.solves_on_factor) = (false, false, 0);
         self.supernode_of = supernode_of(&s);
         self.factor_flops = factor_flops(&s);
         self.analysed = None;
@@ -282,6 +308,7 @@ impl LinearSolver for FaerCholesky {
         let (s, q) = s.zip(q).expect("analysed above");
         q.gather(values, &mut self.gathered);
         let single = self.wants_single();
+        (self.solves_on_factor, self.iterations_at_factor) = (0, self.single.iterations);
         self.in_single = single && self.single.factorize(s, &q.lower, &self.gathered);
         // A pivot lost in single precision: this analysis stays in double.
         self.double_only |= single && !self.in_single;
@@ -326,6 +353,7 @@ impl LinearSolver for FaerCholesky {
     }
 
     fn solve_to(&mut self, rhs: &mut [f64], tolerance: f64) {
+        self.solves_on_factor += 1;
         if self.in_single && self.solve_refined(rhs, tolerance) {
             return;
         }
@@ -648,6 +676,25 @@ mod single_precision_tests {
         let (double, _) = solved(FactorPrecision::Double, &m);
         let (single, _) = solved(FactorPrecision::Single, &m);
         assert!(relative(&single, &double) < 1e-9, "{}", relative(&single, &double));
+    }
+
+    #[test]
+    fn auto_keeps_a_factor_that_serves_many_solves_in_double_precision() {
+        let (p, v) = laplacian(16, 1.0);
+        let mut f = FaerCholesky::new(Ordering::Amd).with_precision(FactorPrecision::Auto);
+        let mut x = vec![1.0; p.n];
+        f.factorize(&p, &v).unwrap();
+        assert_eq!(f.single_precision().0, 1, "the first factor in single precision");
+        // Many solves on it: their refinement costs more than a double factorisation would.
+        for _ in 0..40 {
+            f.solve(&mut x);
+        }
+        f.factorize(&p, &v).unwrap();
+        assert_eq!(f.single_precision().0, 1, "the next in double");
+        // One solve on the double factor: single precision pays again.
+        f.solve(&mut x);
+        f.factorize(&p, &v).unwrap();
+        assert_eq!(f.single_precision().0, 2);
     }
 
     #[test]
