@@ -64,8 +64,9 @@ def main() -> None:
     write_page(PAGE, "Single-precision factors: factorisations refined to double precision", "factor_precision.py",
                load0, [
         "Each case with `analysis.factor_precision = \"double\"` and with the default `\"auto\"` (single "
-        "precision where a factorisation costs at least 12 PCG iterations on its factor, "
-        "[theory/solver.md](theory/solver.md#single-precision-factors)), back to back. *Single / all*: "
+        "precision where a factorisation costs at least 12 PCG iterations on its factor and the last factor's "
+        "solves cost few extra iterations, [theory/solver.md](theory/solver.md#single-precision-factors)), "
+        "back to back. *Single / all*: "
         "factorisations made in single precision of all made; *refinement*: the conjugate-gradient "
         "iterations that brought the solves on them to double precision; *factorisation*: the summary's "
         "`factorization` time (numeric factorisations and the solves made with them); *result*: the value a "
