@@ -102,12 +102,6 @@ pub struct RunSummary {
     /// PCG iterations of the multigrid solver (0 with the direct one).
     #[serde(default)]
     pub multigrid_iterations: u64,
-    /// Factorisations the direct solver made in single precision (`analysis.factor_precision`).
-    #[serde(default)]
-    pub single_precision_factorizations: u64,
-    /// Iterations that refined the solves on those factors to double precision.
-    #[serde(default)]
-    pub refinement_iterations: u64,
     /// A static run with `analysis.static_travel_limit` that ended with every other block in
     /// equilibrium: the blocks that moved beyond the limit (not held), farthest first.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -129,6 +123,13 @@ pub struct RunSummary {
     /// entries all inside its factor (0 in summaries before it).
     #[serde(default)]
     pub patterns_adopted: u64,
+    /// Factorisations the direct solver made in single precision (`analysis.factor_precision`;
+    /// 0 in summaries before it).
+    #[serde(default)]
+    pub single_precision_factorizations: u64,
+    /// Iterations that refined the solves on those factors to double precision.
+    #[serde(default)]
+    pub refinement_iterations: u64,
 }
 
 /// The free-fall bound (`time/free_fall.rs`): no block's centre of mass faster than a body

@@ -21,12 +21,12 @@ use faer::sparse::linalg::cholesky::{
     SymmetricOrdering,
 };
 use faer::sparse::linalg::SupernodalThreshold;
-use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::sparse::SymbolicSparseColMatRef;
 use faer::{Conj, MatMut, Par, Side};
 
 use super::ordering::{amd, nested_dissection, Permutation};
 use super::permuted::Permuted;
-use super::single::SingleFactor;
+use super::single::{numeric_llt, SingleFactor};
 use super::{LinearSolver, SolverFailure};
 use crate::assembly::SparsityPattern;
 use crate::scenario::{FactorPrecision, Ordering};
@@ -154,21 +154,8 @@ impl FaerCholesky {
         let (s, q) = self.symbolic.as_ref().zip(self.permuted.as_ref()).expect("analysed");
         self.in_single = false;
         self.values.resize(s.len_val(), 0.0);
-        let l = &q.lower;
-        let sym = SymbolicSparseColMatRef::new_checked(l.n, l.n, &l.col_ptr, None, &l.row_idx);
-        let mat = SparseColMatRef::new(sym, &self.gathered);
         let mem = self.scratch.as_mut().expect("allocated with the symbolic factorisation");
-        s.factorize_numeric_llt::<f64>(
-            &mut self.values,
-            mat,
-            Side::Lower,
-            Default::default(),
-            Par::Seq,
-            MemStack::new(mem),
-            Default::default(),
-        )
-        .map(|_| ())
-        .map_err(|e| {
+        numeric_llt(s, &q.lower, &self.gathered, &mut self.values, mem).map_err(|e| {
             let LltError::NonPositivePivot { index } = e;
             // The index is in the fill-reducing order; report the original equation.
             SolverFailure::NotPositiveDefinite { equation: q.perm.forward[index] as usize }

@@ -9,8 +9,10 @@
 //! one. It pays where a factorisation costs many triangular solves (`faer_cholesky.rs` decides).
 
 use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt::factor::LltError;
 use faer::sparse::linalg::cholesky::{LltRef, SymbolicCholesky};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::traits::ComplexField;
 use faer::{Conj, MatMut, Par, Side};
 
 use super::pcg::pcg;
@@ -51,22 +53,10 @@ impl SingleFactor {
     pub fn factorize(&mut self, s: &SymbolicCholesky<u32>, lower: &SparsityPattern, gathered: &[f64]) -> bool {
         self.gathered.clear();
         self.gathered.extend(gathered.iter().map(|&v| v as f32));
-        let sym = SymbolicSparseColMatRef::new_checked(lower.n, lower.n, &lower.col_ptr, None, &lower.row_idx);
-        let mat = SparseColMatRef::new(sym, &self.gathered);
         self.values.resize(s.len_val(), 0.0);
         let need = s.factorize_numeric_llt_scratch::<f32>(Par::Seq, Default::default());
         let mem = self.scratch.get_or_insert_with(|| MemBuffer::new(need));
-        let ok = s
-            .factorize_numeric_llt::<f32>(
-                &mut self.values,
-                mat,
-                Side::Lower,
-                Default::default(),
-                Par::Seq,
-                MemStack::new(mem),
-                Default::default(),
-            )
-            .is_ok();
+        let ok = numeric_llt(s, lower, &self.gathered, &mut self.values, mem).is_ok();
         self.factorizations += u64::from(ok);
         ok
     }
@@ -111,6 +101,22 @@ impl SingleFactor {
         }
         converged
     }
+}
+
+/// faer's numeric LLᵀ, on the symbolic analysis `s`, of the permuted lower triangle `lower`
+/// with `values`, into `factor`, in the scratch `mem` (either precision).
+pub fn numeric_llt<T: ComplexField>(
+    s: &SymbolicCholesky<u32>,
+    lower: &SparsityPattern,
+    values: &[T],
+    factor: &mut [T],
+    mem: &mut MemBuffer,
+) -> Result<(), LltError> {
+    let sym = SymbolicSparseColMatRef::new_checked(lower.n, lower.n, &lower.col_ptr, None, &lower.row_idx);
+    let mat = SparseColMatRef::new(sym, values);
+    let stack = MemStack::new(mem);
+    s.factorize_numeric_llt::<T>(factor, mat, Side::Lower, Default::default(), Par::Seq, stack, Default::default())
+        .map(|_| ())
 }
 
 /// Relative residual ‖b − A x‖ / ‖b‖ a refined solve must reach besides its own criterion [-],
