@@ -29,6 +29,7 @@ pub(super) fn summary(sys: &System, whole: &State, stepper: &Stepper, rec: &Reco
     let counts = stepper.solve_counts();
     let not_held = not_held(sys, whole, rec, end.status);
     let cause = deep_overlap(sys, rec.max_penetration);
+    let single = stepper.solver().single_precision();
     RunSummary {
         status: end.status,
         message: end.message.to_string(),
@@ -66,8 +67,8 @@ pub(super) fn summary(sys: &System, whole: &State, stepper: &Stepper, rec: &Reco
         stages: Vec::new(),
         linear_solver: stepper.solver().name().into(),
         multigrid_iterations: stepper.solver().inner_iterations(),
-        single_precision_factorizations: stepper.solver().single_precision().0,
-        refinement_iterations: stepper.solver().single_precision().1,
+        single_precision_factorizations: single.0,
+        refinement_iterations: single.1,
         not_held_monitors: (rec.monitors.iter())
             .filter(|m| not_held.contains(&m.block))
             .map(|m| m.name.clone())
