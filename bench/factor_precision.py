@@ -11,7 +11,11 @@ first); the answer a rock engineer reads is set beside the factorisations and th
 
 from __future__ import annotations
 
+import json
 import os
+import subprocess
+import sys
+import time
 from pathlib import Path
 
 from _page import write_page
@@ -23,6 +27,10 @@ GOODMAN = ROOT / "examples" / "goodman_tunnel.toml"
 TUNNEL = ROOT / "examples" / "tunnel_key_blocks.toml"
 DOMINOS = ROOT / "bench" / "peers" / "dominos_yade_match.toml"
 SLOPE = ROOT / "examples" / "rock_slope.toml"
+BENCH = Path(__file__).resolve().parent
+# The packed pile of `bench/contact.py` (cubes touching side to side and on each other): a web of
+# contacts whose factor fills, made by that script rather than read from a file.
+PILE = ("packed pile", 1000)
 STATIC = ["analysis.kind=static", "analysis.dt=1", "analysis.duration=20", "analysis.static_travel_limit=0.02"]
 # (case, scenario, settings, the value read and its unit)
 CASES = [
@@ -34,15 +42,36 @@ CASES = [
      ("roof_key_block.displacement.z", "m")),
     ("Yade-matched dominos (0.1 m cover), 1 s", DOMINOS, ["analysis.duration=1"], ("d9.rotation.y", "rad")),
     ("thesis slope case A, 1 s", SLOPE, ["analysis.duration=1"], ("toe_block.displacement.x", "m")),
+    ("packed pile of 1 000 cubes, 40 steps (`bench/contact.py`)", PILE, [], ("max_penetration", "m")),
 ]
 PRECISIONS = ("double", "auto")
+
+
+def run_pile(n: int, sets: list[str]) -> dict:
+    """The packed pile of `n` cubes with `sets`, in a process of its own: its summary, `wall` [s]."""
+    code = (f"import sys, json, tempfile; sys.path.insert(0, {str(BENCH)!r}); import nmm3d; "
+            f"from contact import pile; d = tempfile.mkdtemp(); "
+            f"print(json.dumps(nmm3d.Scenario.from_dict(pile({n}, packed=True), {sets!r}).run(out=d).summary))")
+    t0 = time.perf_counter()
+    r = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True)
+    return json.loads(r.stdout.strip().splitlines()[-1]) | {"wall": time.perf_counter() - t0}
+
+
+def run(scenario: Path | tuple[str, int], sets: list[str]) -> dict:
+    """A case's run: a scenario file as a user runs it, or the generated pile."""
+    return run_pile(scenario[1], sets) if isinstance(scenario, tuple) else run_scenario(scenario, sets)
+
+
+def result(s: dict, value: str) -> float:
+    """The value read at the end: a monitor's, or the summary's own."""
+    return s["final"][value] if value in s.get("final", {}) else s[value]
 
 
 def row(name: str, precision: str, s: dict, value: str, unit: str, load: float) -> str:
     t = s["timings"]
     return (f"| {name} | {precision} | {s['single_precision_factorizations']} / {s['factorizations']} | "
             f"{s['refinement_iterations']} | {s['factor_nonzeros']:,} | {t['factorization']:.1f} | "
-            f"{t.get('step_equilibrium', 0.0):.1f} | {s['wall']:.1f} | {s['final'][value]:.6g} {unit} | "
+            f"{t.get('step_equilibrium', 0.0):.1f} | {s['wall']:.1f} | {result(s, value):.6g} {unit} | "
             f"{s['status']} | {load:.1f} |")
 
 
@@ -54,7 +83,7 @@ def main() -> None:
         runs = {}
         for precision in order:
             load = os.getloadavg()[0]
-            runs[precision] = (run_scenario(scenario, [*sets, f"analysis.factor_precision={precision}"]), load)
+            runs[precision] = (run(scenario, [*sets, f"analysis.factor_precision={precision}"]), load)
             print(name, precision, round(runs[precision][0]["wall"], 1), flush=True)
         for precision in PRECISIONS:
             summary, load = runs[precision]
