@@ -15,6 +15,7 @@ import json
 import os
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -49,12 +50,13 @@ PRECISIONS = ("double", "auto")
 
 def run_pile(n: int, sets: list[str]) -> dict:
     """The packed pile of `n` cubes with `sets`, in a process of its own: its summary, `wall` [s]."""
-    code = (f"import sys, json, tempfile; sys.path.insert(0, {str(BENCH)!r}); import nmm3d; "
-            f"from contact import pile; d = tempfile.mkdtemp(); "
-            f"print(json.dumps(nmm3d.Scenario.from_dict(pile({n}, packed=True), {sets!r}).run(out=d).summary))")
-    t0 = time.perf_counter()
-    r = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True)
-    return json.loads(r.stdout.strip().splitlines()[-1]) | {"wall": time.perf_counter() - t0}
+    with tempfile.TemporaryDirectory() as out:
+        code = (f"import sys, json; sys.path.insert(0, {str(BENCH)!r}); import nmm3d; from contact import pile; "
+                f"print(json.dumps(nmm3d.Scenario.from_dict(pile({n}, packed=True), {sets!r}).run(out={out!r}).summary))")
+        t0 = time.perf_counter()
+        r = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True)
+        wall = time.perf_counter() - t0
+    return json.loads(r.stdout.strip().splitlines()[-1]) | {"wall": wall}
 
 
 def run(scenario: Path | tuple[str, int], sets: list[str]) -> dict:
