@@ -30,8 +30,8 @@ DOMINOS = ROOT / "bench" / "peers" / "dominos_yade_match.toml"
 SLOPE = ROOT / "examples" / "rock_slope.toml"
 BENCH = Path(__file__).resolve().parent
 # The packed pile of `bench/contact.py` (cubes touching side to side and on each other): a web of
-# contacts whose factor fills, made by that script rather than read from a file.
-PILE = ("packed pile", 1000)
+# contacts whose factor fills, made by that script rather than read from a file: its cubes.
+PILE = 1000
 STATIC = ["analysis.kind=static", "analysis.dt=1", "analysis.duration=20", "analysis.static_travel_limit=0.02"]
 # (case, scenario, settings, the value read and its unit)
 CASES = [
@@ -59,9 +59,9 @@ def run_pile(n: int, sets: list[str]) -> dict:
     return json.loads(r.stdout.strip().splitlines()[-1]) | {"wall": wall}
 
 
-def run(scenario: Path | tuple[str, int], sets: list[str]) -> dict:
-    """A case's run: a scenario file as a user runs it, or the generated pile."""
-    return run_pile(scenario[1], sets) if isinstance(scenario, tuple) else run_scenario(scenario, sets)
+def run(scenario: Path | int, sets: list[str]) -> dict:
+    """A case's run: a scenario file as a user runs it, or the generated pile of that many cubes."""
+    return run_pile(scenario, sets) if isinstance(scenario, int) else run_scenario(scenario, sets)
 
 
 def result(s: dict, value: str) -> float:
