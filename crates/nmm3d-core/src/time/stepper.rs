@@ -118,7 +118,10 @@ impl Stepper {
     /// force (the first step takes the assembly, `assembled`).
     pub(super) fn initial_residual(&mut self, sys: &System, whole: &mut State) -> Vec<Vec3> {
         let (state, run) = (&mut whole.motion, &whole.stepper);
+        let t = Instant::now();
         let mut residual = self.assemble(sys, state, false);
+        // The first step takes this assembly (`assembled`): its time is the step's.
+        self.times.assembly += t.elapsed().as_secs_f64();
         self.fresh = Some((state.u.clone(), residual.clone()));
         let base = shaking(sys, run).then(|| sys.base_force(sys.scenario.seismic.acceleration_after(state.time)));
         add_to(&mut residual, base.as_deref());
