@@ -10,7 +10,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from matplotlib.figure import Figure
 
 from nmm3d.study.runner import block_id
 from nmm3d.study.spec import StudySpec
@@ -79,6 +78,8 @@ _FIXED = {"id", "status", "unstable", "displacement", "failed_blocks", "detach_t
 
 def plot(out: Path, spec: StudySpec, study: dict[str, Any]) -> None:
     """``study.png`` (and ``blocks.png`` for a per-block search)."""
+    from matplotlib.figure import Figure  # here, not at import: matplotlib takes 0.3 s to load
+
     rows = study["rows"]
     fig = Figure(figsize=(7.0, 4.5))
     ax = fig.subplots()
@@ -141,6 +142,8 @@ def _blocks_plot(out: Path, spec: StudySpec, study: dict[str, Any]) -> None:
     blocks = [b for b in study["blocks"] if b.get(name) is not None]
     if not blocks:
         return
+    from matplotlib.figure import Figure
+
     fig = Figure(figsize=(7.0, 0.4 * len(blocks) + 1.5))
     ax = fig.subplots()
     ax.barh([str(b["id"]) for b in blocks], [b[name] for b in blocks], color="tab:orange")
