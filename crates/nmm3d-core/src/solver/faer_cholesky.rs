@@ -7,8 +7,9 @@
 //! entries are fill already) is adopted without a new analysis: fill is monotone and a filled
 //! graph eliminates without fill (the path theorem, Rose, Tarjan and Lueker 1976), so such a
 //! matrix fills nothing beyond the structure; only the gather map is remade.
-//! Runs sequentially (`Par::Seq`): results do not depend on the thread count, and on two
-//! cores threads did not speed faer up (`research/ecosystem.md` §3). Where a factorisation
+//! Large factors are factorised on the run's threads, small ones on one
+//! ([`super::single::PARALLEL_FACTOR_ENTRIES`]); the results do not depend on the thread count
+//! (tested bit for bit). Where a factorisation
 //! costs many triangular solves it is made in single precision and each solve refined to double
 //! precision on it (`single.rs`; `analysis.factor_precision`).
 
@@ -26,7 +27,7 @@ use faer::{Conj, MatMut, Par, Side};
 
 use super::ordering::{amd, nested_dissection, Permutation};
 use super::permuted::Permuted;
-use super::single::{numeric_llt, SingleFactor};
+use super::single::{factor_par, numeric_llt, SingleFactor};
 use super::{LinearSolver, SolverFailure};
 use crate::assembly::SparsityPattern;
 use crate::scenario::{FactorPrecision, Ordering};
@@ -204,7 +205,7 @@ impl FaerCholesky {
         let (name, permuted, s) = best.expect("one ordering analysed");
         self.ordering = Some(name);
         self.values = Vec::new();
-        self.scratch = Some(MemBuffer::new(s.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())));
+        self.scratch = Some(MemBuffer::new(s.factorize_numeric_llt_scratch::<f64>(factor_par(&s), Default::default())));
         self.solve_scratch = None;
         self.single.reset();
         (self.in_single, self.double_only, self.solves_on_factor) = (false, false, 0);
@@ -436,6 +437,27 @@ mod tests {
             .flat_map(|j| (p.col_ptr[j]..p.col_ptr[j + 1]).map(move |e| (j, e as usize)))
             .map(|(j, e)| if p.row_idx[e] as usize == j { 10.0 } else { -0.1 })
             .collect()
+    }
+
+    #[test]
+    fn a_large_factor_made_on_several_threads_has_the_bits_of_one_made_on_one() {
+        let (p, v) = grid(18, 18, 18);
+        let solve = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| {
+                let mut f = FaerCholesky::new(Ordering::NestedDissection);
+                f.factorize(&p, &v).unwrap();
+                let mut x: Vec<f64> = (0..p.n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
+                f.solve(&mut x);
+                (x, f.factor_nonzeros())
+            })
+        };
+        let (one, entries) = solve(1);
+        assert!(entries >= super::super::single::PARALLEL_FACTOR_ENTRIES, "{entries} entries: not made in parallel");
+        for threads in [2, 3] {
+            let (x, _) = solve(threads);
+            assert!(x.iter().zip(&one).all(|(a, b)| a.to_bits() == b.to_bits()), "{threads} threads");
+        }
     }
 
     #[test]
