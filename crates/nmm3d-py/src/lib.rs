@@ -4,6 +4,8 @@
 mod errors;
 
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
+use std::sync::Arc;
 
 use nmm3d_core::error::exit;
 use nmm3d_core::simulation::{self, RunOptions, StopRequest};
@@ -45,14 +47,41 @@ fn run_json(
     progress: bool,
     resume: bool,
 ) -> PyResult<String> {
-    let stop = StopRequest(std::sync::Arc::new(|| Python::attach(|py| py.check_signals().is_err())));
+    let requested = Arc::new(AtomicBool::new(false));
+    let stop = StopRequest(Arc::new({
+        let requested = Arc::clone(&requested);
+        move || requested.load(Relaxed)
+    }));
     let outcome = py.detach(|| {
-        errors::guard("running", || {
-            let s = input::from_json_str(&text, &label, &[])?;
-            simulation::run(s, &label, &RunOptions { out, progress, stop: Some(stop), resume })
+        watching_signals(&requested, || {
+            errors::guard("running", || {
+                let s = input::from_json_str(&text, &label, &[])?;
+                simulation::run(s, &label, &RunOptions { out, progress, stop: Some(stop), resume })
+            })
         })
     })?;
     Ok(serde_json::to_string(&outcome.summary).expect("the summary serialises"))
+}
+
+/// How often the calling thread looks for a Python signal while a run computes [ms].
+const SIGNAL_POLL_MS: u64 = 20;
+
+/// `f` on a thread of its own while this one — Python's main thread, the only one Python hands
+/// its signals to — looks for a pending signal every [`SIGNAL_POLL_MS`] and sets `requested`
+/// when there is one (the signal is consumed). The run steps on a pool of its own
+/// (`simulation::run`), so it cannot look itself.
+fn watching_signals<T: Send>(requested: &AtomicBool, f: impl FnOnce() -> T + Send) -> T {
+    std::thread::scope(|scope| {
+        let run = scope.spawn(f);
+        while !run.is_finished() {
+            std::thread::sleep(std::time::Duration::from_millis(SIGNAL_POLL_MS));
+            if !requested.load(Relaxed) && Python::attach(|py| py.check_signals().is_err()) {
+                requested.store(true, Relaxed);
+            }
+        }
+        // `f` is guarded (`errors::guard`): it returns, it does not unwind.
+        run.join().unwrap_or_else(|payload| std::panic::resume_unwind(payload))
+    })
 }
 
 /// Build the blocks of a scenario (JSON text); with `out`, write `blocks.csv` and `blocks.vtu`
