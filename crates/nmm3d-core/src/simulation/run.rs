@@ -36,9 +36,9 @@ const RUN_STACK: usize = 16 << 20;
 /// have: `RAYON_NUM_THREADS`, else the cores), unless already on a pool's worker (a caller that
 /// chose the threads). The stepper's parallel loops — detection, the elements' tangents and
 /// forces — then start inside the pool they run on; started from outside, each handed its work
-/// over to the pool and woke the caller when done, which cost 12–16 % of the wall time of the
-/// thesis slope and the Yade-matched dominos (2026-11-30, back to back, the same results bit
-/// for bit). A pool per run, so that runs in threads of one process never take up each other's
+/// over to the pool and woke the caller when done, which cost 3–16 % of the wall time of the
+/// thesis slope, the Yade-matched dominos and the thesis tunnel (2026-11-30, back to back, the
+/// same results bit for bit). A pool per run, so that runs in threads of one process never take up each other's
 /// work in their waits.
 fn on_own_pool<R: Send>(f: impl FnOnce() -> R + Send) -> R {
     if rayon::current_thread_index().is_some() {

@@ -453,7 +453,7 @@ mod tests {
             })
         };
         let (one, entries) = solve(1);
-        assert!(entries >= super::super::single::PARALLEL_FACTOR_ENTRIES, "{entries} entries: not made in parallel");
+        assert!(entries >= crate::solver::single::PARALLEL_FACTOR_ENTRIES, "{entries} entries: not made in parallel");
         for threads in [2, 3] {
             let (x, _) = solve(threads);
             assert!(x.iter().zip(&one).all(|(a, b)| a.to_bits() == b.to_bits()), "{threads} threads");
