@@ -7,8 +7,8 @@
 //! entries are fill already) is adopted without a new analysis: fill is monotone and a filled
 //! graph eliminates without fill (the path theorem, Rose, Tarjan and Lueker 1976), so such a
 //! matrix fills nothing beyond the structure; only the gather map is remade.
-//! Large factors are factorised on the run's threads, small ones on one
-//! ([`super::single::PARALLEL_FACTOR_ENTRIES`]); the results do not depend on the thread count
+//! Factorisations of much work are made on the run's threads, others on one
+//! ([`super::factor_work::PARALLEL_FACTOR_FLOPS`]); the results do not depend on the thread count
 //! (tested bit for bit). Where a factorisation
 //! costs many triangular solves it is made in single precision and each solve refined to double
 //! precision on it (`single.rs`; `analysis.factor_precision`).
@@ -25,9 +25,10 @@ use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::SymbolicSparseColMatRef;
 use faer::{Conj, MatMut, Par, Side};
 
+use super::factor_work::{column_flops, factor_par, supernode_flops};
 use super::ordering::{amd, nested_dissection, Permutation};
 use super::permuted::Permuted;
-use super::single::{factor_par, numeric_llt, SingleFactor};
+use super::single::{numeric_llt, SingleFactor};
 use super::{LinearSolver, SolverFailure};
 use crate::assembly::SparsityPattern;
 use crate::scenario::{FactorPrecision, Ordering};
@@ -205,7 +206,8 @@ impl FaerCholesky {
         let (name, permuted, s) = best.expect("one ordering analysed");
         self.ordering = Some(name);
         self.values = Vec::new();
-        self.scratch = Some(MemBuffer::new(s.factorize_numeric_llt_scratch::<f64>(factor_par(&s), Default::default())));
+        self.scratch =
+            Some(MemBuffer::new(s.factorize_numeric_llt_scratch::<f64>(factor_par::<f64>(&s), Default::default())));
         self.solve_scratch = None;
         self.single.reset();
         (self.in_single, self.double_only, self.solves_on_factor) = (false, false, 0);
@@ -247,13 +249,11 @@ fn factor_flops(s: &SymbolicCholesky<u32>) -> f64 {
         SymbolicCholeskyRaw::Supernodal(sn) => (0..sn.n_supernodes())
             .map(|node| {
                 let w = (sn.supernode_end()[node] - sn.supernode_begin()[node]) as f64;
-                let m = sn.supernode(node).pattern().len() as f64;
-                // Σ_{k=1..w} (k + m)²
-                let flops = w * m * m + m * w * (w + 1.0) + w * (w + 1.0) * (2.0 * w + 1.0) / 6.0;
-                flops / w.min(DENSE_SPEEDUP) + SUPERNODE_OVERHEAD
+                supernode_flops(w, sn.supernode(node).pattern().len() as f64) / w.min(DENSE_SPEEDUP)
+                    + SUPERNODE_OVERHEAD
             })
             .sum(),
-        SymbolicCholeskyRaw::Simplicial(sm) => sm.col_ptr().windows(2).map(|c| ((c[1] - c[0]) as f64).powi(2)).sum(),
+        SymbolicCholeskyRaw::Simplicial(_) => column_flops(s),
     }
 }
 
@@ -449,11 +449,11 @@ mod tests {
                 f.factorize(&p, &v).unwrap();
                 let mut x: Vec<f64> = (0..p.n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
                 f.solve(&mut x);
-                (x, f.factor_nonzeros())
+                (x, column_flops(f.symbolic.as_ref().expect("analysed")))
             })
         };
-        let (one, entries) = solve(1);
-        assert!(entries >= crate::solver::single::PARALLEL_FACTOR_ENTRIES, "{entries} entries: not made in parallel");
+        let (one, work) = solve(1);
+        assert!(work >= super::super::factor_work::PARALLEL_FACTOR_FLOPS, "{work:e} flops: not made in parallel");
         for threads in [2, 3] {
             let (x, _) = solve(threads);
             assert!(x.iter().zip(&one).all(|(a, b)| a.to_bits() == b.to_bits()), "{threads} threads");

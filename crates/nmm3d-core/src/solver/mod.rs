@@ -2,6 +2,7 @@
 //! iterative PCG, PETSc for one huge model) can be added without touching the stepper.
 
 mod amg;
+mod factor_work;
 mod faer_cholesky;
 pub mod ordering;
 pub mod pcg;

@@ -15,6 +15,7 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::traits::ComplexField;
 use faer::{Conj, MatMut, Par, Side};
 
+use super::factor_work::factor_par;
 use super::pcg::pcg;
 use crate::assembly::SparsityPattern;
 
@@ -54,7 +55,7 @@ impl SingleFactor {
         self.gathered.clear();
         self.gathered.extend(gathered.iter().map(|&v| v as f32));
         self.values.resize(s.len_val(), 0.0);
-        let need = s.factorize_numeric_llt_scratch::<f32>(factor_par(s), Default::default());
+        let need = s.factorize_numeric_llt_scratch::<f32>(factor_par::<f32>(s), Default::default());
         let mem = self.scratch.get_or_insert_with(|| MemBuffer::new(need));
         let ok = numeric_llt(s, lower, &self.gathered, &mut self.values, mem).is_ok();
         self.factorizations += u64::from(ok);
@@ -115,28 +116,16 @@ pub fn numeric_llt<T: ComplexField>(
     let sym = SymbolicSparseColMatRef::new_checked(lower.n, lower.n, &lower.col_ptr, None, &lower.row_idx);
     let mat = SparseColMatRef::new(sym, values);
     let stack = MemStack::new(mem);
-    s.factorize_numeric_llt::<T>(factor, mat, Side::Lower, Default::default(), factor_par(s), stack, Default::default())
-        .map(|_| ())
-}
-
-/// Factors of at least this many entries are factorised on the run's threads (faer's parallel
-/// supernodal kernels), smaller ones on one. Measured back to back on two cores (2026-11-30,
-/// the run on its own pool, `simulation::run`; the same bits every time): factorisation time of
-/// the packed pile of 300 cubes (4.1 M entries) 11.0 → 8.6 s, of the 10⁵-ME static block
-/// (direct) 1.05 → 0.66 s; Goodman's tunnel (2.4 M, single precision) 15.5 → 15.2 and 17.8 →
-/// 17.6 s, within the machine's spread; with every factor made in parallel, the Yade-matched
-/// dominos (0.2–0.3 M) unchanged and the thesis slope (0.1 M) 23 % slower. (Started from outside
-/// the pool every parallel region cost a hand-over between threads: Goodman's tunnel took 45.2 s
-/// instead of 25.2 s, `docs/theory/solver.md`.)
-pub const PARALLEL_FACTOR_ENTRIES: usize = 1_000_000;
-
-/// How the numeric factorisation on `s` runs: [`PARALLEL_FACTOR_ENTRIES`].
-pub fn factor_par(s: &SymbolicCholesky<u32>) -> Par {
-    if s.len_val() >= PARALLEL_FACTOR_ENTRIES && rayon::current_num_threads() > 1 {
-        Par::rayon(0)
-    } else {
-        Par::Seq
-    }
+    s.factorize_numeric_llt::<T>(
+        factor,
+        mat,
+        Side::Lower,
+        Default::default(),
+        factor_par::<T>(s),
+        stack,
+        Default::default(),
+    )
+    .map(|_| ())
 }
 
 /// Relative residual ‖b − A x‖ / ‖b‖ a refined solve must reach besides its own criterion [-],
