@@ -32,8 +32,8 @@ pub fn column_flops(s: &SymbolicCholesky<u32>) -> f64 {
 /// 57.0 ms, of 600 (7.5·10⁹) 196–200 → 150–161 ms; single — the thesis tunnel (6.2·10⁸) 20.3–
 /// 26.2 → 22.6–26.7 ms, the pile of 250 cubes (1.2·10⁹) 25.5–25.7 → 28.4–28.8 ms, of 300 37.9–
 /// 38.0 → 38.6–39.4 ms, of 600 118–126 → 103–111 ms, of 1 000 (1.7·10¹⁰) 269–279 → 207–219 ms.
-/// (A threshold of 10⁶ factor entries, used before, made Goodman's tunnels' factors in
-/// parallel: no faster, and the thesis tunnel's slower.)
+/// (A threshold of 10⁶ factor entries, used before, made Goodman's and the thesis tunnel's
+/// factors in parallel: the one no faster, the other slower.)
 pub const PARALLEL_FACTOR_FLOPS: f64 = 1.5e9;
 
 /// How the numeric factorisation on `s` in precision `T` runs: [`PARALLEL_FACTOR_FLOPS`].
