@@ -36,10 +36,10 @@ pub fn column_flops(s: &SymbolicCholesky<u32>) -> f64 {
 /// factors in parallel: the one no faster, the other slower.)
 pub const PARALLEL_FACTOR_FLOPS: f64 = 1.5e9;
 
-/// How the numeric factorisation on `s` in precision `T` runs: [`PARALLEL_FACTOR_FLOPS`].
-pub fn factor_par<T>(s: &SymbolicCholesky<u32>) -> Par {
-    let work = column_flops(s) * std::mem::size_of::<T>() as f64 / 8.0;
-    if work >= PARALLEL_FACTOR_FLOPS && rayon::current_num_threads() > 1 {
+/// How a numeric factorisation of `work` ([`column_flops`], counted once per analysis) in
+/// precision `T` runs: [`PARALLEL_FACTOR_FLOPS`].
+pub fn factor_par<T>(work: f64) -> Par {
+    if work * std::mem::size_of::<T>() as f64 / 8.0 >= PARALLEL_FACTOR_FLOPS && rayon::current_num_threads() > 1 {
         Par::rayon(0)
     } else {
         Par::Seq

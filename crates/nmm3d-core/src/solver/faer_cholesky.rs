@@ -87,6 +87,9 @@ pub struct FaerCholesky {
     analysed: Option<SparsityPattern>,
     /// A numeric factorisation on the analysis, in triangular-solve flops ([`factor_flops`]).
     factor_flops: f64,
+    /// A numeric factorisation's work on the analysis ([`column_flops`]): whether it runs on
+    /// the run's threads.
+    work: f64,
     symbolic_seconds: f64,
     numeric_seconds: f64,
 }
@@ -175,7 +178,7 @@ impl FaerCholesky {
         self.in_single = false;
         self.values.resize(s.len_val(), 0.0);
         let mem = self.scratch.as_mut().expect("allocated with the symbolic factorisation");
-        numeric_llt(s, &q.lower, &self.gathered, &mut self.values, mem).map_err(|e| {
+        numeric_llt(s, &q.lower, &self.gathered, &mut self.values, (factor_par::<f64>(self.work), mem)).map_err(|e| {
             let LltError::NonPositivePivot { index } = e;
             // The index is in the fill-reducing order; report the original equation.
             SolverFailure::NotPositiveDefinite { equation: q.perm.forward[index] as usize }
@@ -204,15 +207,17 @@ impl FaerCholesky {
             }
         }
         let (name, permuted, s) = best.expect("one ordering analysed");
+        let work = column_flops(&s);
         self.ordering = Some(name);
         self.values = Vec::new();
         self.scratch =
-            Some(MemBuffer::new(s.factorize_numeric_llt_scratch::<f64>(factor_par::<f64>(&s), Default::default())));
+            Some(MemBuffer::new(s.factorize_numeric_llt_scratch::<f64>(factor_par::<f64>(work), Default::default())));
         self.solve_scratch = None;
         self.single.reset();
         (self.in_single, self.double_only, self.solves_on_factor) = (false, false, 0);
         self.supernode_of = supernode_of(&s);
         self.factor_flops = factor_flops(&s);
+        self.work = work;
         self.analysed = None;
         self.symbolic = Some(s);
         self.permuted = Some(permuted);
@@ -315,7 +320,7 @@ impl LinearSolver for FaerCholesky {
         q.gather(values, &mut self.gathered);
         let single = self.wants_single();
         (self.solves_on_factor, self.iterations_at_factor) = (0, self.single.iterations);
-        self.in_single = single && self.single.factorize(s, &q.lower, &self.gathered);
+        self.in_single = single && self.single.factorize(s, self.work, &q.lower, &self.gathered);
         // A pivot lost in single precision: this analysis stays in double.
         self.double_only |= single && !self.in_single;
         if !self.in_single {

@@ -51,13 +51,21 @@ impl SingleFactor {
 
     /// Factorise the permuted lower triangle `lower` with values `gathered` in `f32`; false if
     /// a pivot was not positive in single precision (nothing kept).
-    pub fn factorize(&mut self, s: &SymbolicCholesky<u32>, lower: &SparsityPattern, gathered: &[f64]) -> bool {
+    /// `work`: the factorisation's ([`super::factor_work::column_flops`]).
+    pub fn factorize(
+        &mut self,
+        s: &SymbolicCholesky<u32>,
+        work: f64,
+        lower: &SparsityPattern,
+        gathered: &[f64],
+    ) -> bool {
         self.gathered.clear();
         self.gathered.extend(gathered.iter().map(|&v| v as f32));
         self.values.resize(s.len_val(), 0.0);
-        let need = s.factorize_numeric_llt_scratch::<f32>(factor_par::<f32>(s), Default::default());
+        let par = factor_par::<f32>(work);
+        let need = s.factorize_numeric_llt_scratch::<f32>(par, Default::default());
         let mem = self.scratch.get_or_insert_with(|| MemBuffer::new(need));
-        let ok = numeric_llt(s, lower, &self.gathered, &mut self.values, mem).is_ok();
+        let ok = numeric_llt(s, lower, &self.gathered, &mut self.values, (par, mem)).is_ok();
         self.factorizations += u64::from(ok);
         ok
     }
@@ -105,27 +113,19 @@ impl SingleFactor {
 }
 
 /// faer's numeric LLᵀ, on the symbolic analysis `s`, of the permuted lower triangle `lower`
-/// with `values`, into `factor`, in the scratch `mem` (either precision).
+/// with `values`, into `factor`, on `par` threads in the scratch `mem` (either precision).
 pub fn numeric_llt<T: ComplexField>(
     s: &SymbolicCholesky<u32>,
     lower: &SparsityPattern,
     values: &[T],
     factor: &mut [T],
-    mem: &mut MemBuffer,
+    (par, mem): (Par, &mut MemBuffer),
 ) -> Result<(), LltError> {
     let sym = SymbolicSparseColMatRef::new_checked(lower.n, lower.n, &lower.col_ptr, None, &lower.row_idx);
     let mat = SparseColMatRef::new(sym, values);
     let stack = MemStack::new(mem);
-    s.factorize_numeric_llt::<T>(
-        factor,
-        mat,
-        Side::Lower,
-        Default::default(),
-        factor_par::<T>(s),
-        stack,
-        Default::default(),
-    )
-    .map(|_| ())
+    s.factorize_numeric_llt::<T>(factor, mat, Side::Lower, Default::default(), par, stack, Default::default())
+        .map(|_| ())
 }
 
 /// Relative residual ‖b − A x‖ / ‖b‖ a refined solve must reach besides its own criterion [-],
