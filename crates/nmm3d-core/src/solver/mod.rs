@@ -9,6 +9,7 @@ pub mod pcg;
 mod permuted;
 mod reuse;
 mod single;
+mod subnormals;
 
 pub use amg::{AmgParams, AmgSolver};
 pub use faer_cholesky::FaerCholesky;

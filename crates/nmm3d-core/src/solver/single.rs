@@ -7,6 +7,7 @@
 //! lanes — and each solve is conjugate gradients on the `f64` matrix preconditioned by that
 //! factor, to [`REFINED_TOLERANCE`]: the answer of a double-precision factor, not of a single
 //! one. It pays where a factorisation costs many triangular solves (`faer_cholesky.rs` decides).
+//! Its kernels run with subnormal numbers flushed to zero (`subnormals.rs`).
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltError;
@@ -17,6 +18,7 @@ use faer::{Conj, MatMut, Par, Side};
 
 use super::factor_work::factor_par;
 use super::pcg::pcg;
+use super::subnormals::flushed;
 use crate::assembly::SparsityPattern;
 
 /// Relative error, in the preconditioner's norm, at which a refined solve stops [-]: the
@@ -65,7 +67,8 @@ impl SingleFactor {
         let par = factor_par::<f32>(work);
         let need = s.factorize_numeric_llt_scratch::<f32>(par, Default::default());
         let mem = self.scratch.get_or_insert_with(|| MemBuffer::new(need));
-        let ok = numeric_llt(s, lower, &self.gathered, &mut self.values, (par, mem)).is_ok();
+        let (a, factor) = (&self.gathered, &mut self.values);
+        let ok = flushed(par, || numeric_llt(s, lower, a, factor, (par, mem)).is_ok());
         self.factorizations += u64::from(ok);
         ok
     }
@@ -77,12 +80,11 @@ impl SingleFactor {
         let mem = self.solve_scratch.get_or_insert_with(|| MemBuffer::new(need));
         self.vector.clear();
         self.vector.extend(r.iter().map(|&v| v as f32));
-        LltRef::<'_, u32, f32>::new(s, &self.values).solve_in_place_with_conj(
-            Conj::No,
-            MatMut::from_column_major_slice_mut(&mut self.vector, n, 1),
-            Par::Seq,
-            MemStack::new(mem),
-        );
+        let (factor, v) = (LltRef::<'_, u32, f32>::new(s, &self.values), &mut self.vector);
+        flushed(Par::Seq, || {
+            let v = MatMut::from_column_major_slice_mut(v, n, 1);
+            factor.solve_in_place_with_conj(Conj::No, v, Par::Seq, MemStack::new(mem))
+        });
         r.iter_mut().zip(&self.vector).for_each(|(r, v)| *r = f64::from(*v));
     }
 
