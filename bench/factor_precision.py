@@ -100,7 +100,7 @@ def main() -> None:
         "back to back. *Single / all*: "
         "factorisations made in single precision of all made; *refinement*: the conjugate-gradient "
         "iterations that brought the solves on them to double precision; *factorisation*: the summary's "
-        "`factorization` time (numeric factorisations and the solves made with them); *result*: the value a "
+        "`factorization` time (the numeric factorisations alone; the refined solves count in the open–close phase); *result*: the value a "
         "rock engineer reads at the end.",
         "",
         "| case | precision | single / all factorisations | refinement iterations | factor entries | "
