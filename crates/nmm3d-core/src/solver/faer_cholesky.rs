@@ -41,10 +41,11 @@ use crate::scenario::{FactorPrecision, Ordering};
 const SINGLE_FROM: f64 = 12.0;
 
 /// The share of a factorisation's cost a single-precision one saves (Goodman's tunnel, alone:
-/// 1.58× faster, 1 − 1/1.58; 1.44–1.59× since its kernels flush subnormals) [-]. With `"auto"` the next factorisation is made in single
-/// precision only while the last factor's solves cost fewer extra iterations than that: a run at
-/// rest solves many times on each factor (the thesis tunnel at rest: 56 refinement iterations
-/// per factor, 13 % slower on single factors), a moving rock mass once or twice.
+/// 1.58× faster, 1 − 1/1.58; 1.44–1.59× since its kernels flush subnormals) [-]. With `"auto"`
+/// the next factorisation is made in single precision only while the last factor's solves cost
+/// fewer extra iterations than that: a run at rest solves many times on each factor (the thesis
+/// tunnel at rest: 56 refinement iterations per factor, 13 % slower on single factors), a moving
+/// rock mass once or twice.
 const SINGLE_SAVES: f64 = 0.35;
 
 /// Refinement iterations a solve on a single factor takes beyond the double factor's one, as
