@@ -7,8 +7,10 @@
 //! make them zero instead: a change far below the precision the refinement restores anyway
 //! (`single.rs`). Measured per single-precision factorisation (2026-11-30, back to back): the
 //! thesis tunnel 16.8 → 13.3 ms, Goodman's tunnel 23.6 → 21.9 ms, the packed pile of 300 cubes
-//! 52.5–53.4 → 42.4–42.5 ms; the same refinement and Krylov iteration counts. Double-precision
-//! factors gain nothing (their fill stays above 2.2·10⁻³⁰⁸), so they keep IEEE arithmetic.
+//! 52.5–53.4 → 42.4–42.5 ms (61.1 → 43.9 ms in a later run); the same refinement and Krylov
+//! iteration counts. The piles of 600 and 1 000 cubes (factorised on two threads) were unchanged,
+//! 150 and 273–284 ms either way: not every factor decays that far. Double-precision factors
+//! gain nothing (their fill stays above 2.2·10⁻³⁰⁸), so they keep IEEE arithmetic.
 //!
 //! The flags are per thread: set on the calling thread and, for a parallel kernel, on every
 //! thread of the current pool, and restored when the closure returns (or unwinds). Other
