@@ -11,7 +11,7 @@ use super::sparsity::SparsityPattern;
 #[derive(Debug, Clone, PartialEq)]
 pub struct Coupling {
     /// Equation block (first equation / 3) of each node: the free covers and the free masters
-    /// of the tied ones.
+    /// of the tied ones, in increasing order.
     blocks: Vec<u32>,
     /// (cover position, node, weight): a cover's value goes to the node times the weight.
     spread: Vec<(u32, u32, f64)>,
@@ -49,7 +49,14 @@ impl Coupling {
                 CoverDofs::Fixed => {}
             }
         }
-        let blocks: Vec<u32> = nodes.iter().map(|&c| (dofs.eq(c, 0).expect("nodes are free") / 3) as u32).collect();
+        // Nodes in equation order, so the lower triangle's node blocks are (p, q ≤ p).
+        let block_of = |c: usize| (dofs.eq(c, 0).expect("nodes are free") / 3) as u32;
+        let mut sorted: Vec<u32> = (0..nodes.len() as u32).collect();
+        sorted.sort_by_key(|&k| block_of(nodes[k as usize]));
+        let mut rank = vec![0u32; nodes.len()];
+        sorted.iter().enumerate().for_each(|(r, &k)| rank[k as usize] = r as u32);
+        spread.iter_mut().for_each(|s| s.1 = rank[s.1 as usize]);
+        let blocks: Vec<u32> = sorted.iter().map(|&k| block_of(nodes[k as usize])).collect();
         let offsets = blocks
             .iter()
             .flat_map(|&p| blocks.iter().map(move |&q| (p, q)))
@@ -83,20 +90,20 @@ impl Coupling {
         }
     }
 
-    /// values += local, a symmetric (3m)² row-major matrix over the nodes (its lower part is read).
+    /// values += `local`, a symmetric matrix over the nodes stored by 3 × 3 node blocks: block
+    /// (p, q) row-major at `local[9 (p m + q)..]`. Only the lower triangle is read: the blocks
+    /// q ≤ p (nodes are in equation order), of the diagonal ones their lower parts.
     pub fn add(&self, pattern: &SparsityPattern, values: &mut [f64], local: &[f64]) {
         let m = self.nodes();
         for p in 0..m {
-            for q in 0..m {
+            for q in 0..=p {
                 let off = self.offsets[p * m + q];
-                if off == UPPER {
-                    continue;
-                }
                 let (bq, diagonal) = (self.blocks[q] as usize, p == q);
+                let block = &local[9 * (p * m + q)..][..9];
                 for j in 0..3 {
                     let start = pattern.col_ptr[3 * bq + j] as usize + off as usize;
                     for i in (0..3).filter(|&i| !diagonal || i >= j) {
-                        values[start + i - j] += local[(3 * p + i) * 3 * m + 3 * q + j];
+                        values[start + i - j] += block[3 * i + j];
                     }
                 }
             }
@@ -156,7 +163,7 @@ mod tests {
             for (bn, wb) in wm.iter().enumerate() {
                 for i in 0..3 {
                     for j in 0..3 {
-                        local[(3 * a + i) * 3 * m + 3 * bn + j] = wa * wb * b[i][j];
+                        local[9 * (a * m + bn) + 3 * i + j] = wa * wb * b[i][j];
                     }
                 }
             }

@@ -12,7 +12,8 @@ impl ContactHistory {
     /// The springs of every closed point, summed per pair of MEs and scattered into `values`
     /// (on `pattern`) through the pair's coupling (its covers, lower ME first); the constant
     /// forces go straight to `force` per cover. A point's matrix is w wᵀ ⊗ B, so tied covers
-    /// are folded into the weights (Tᵀ w) before the product, not after.
+    /// are folded into the weights (Tᵀ w) before the product, not after; only the lower node
+    /// blocks, which the coupling scatters, are summed.
     pub fn assemble<'a>(
         &self,
         sys: &System,
@@ -25,16 +26,13 @@ impl ContactHistory {
             (0..self.records.len()).filter(|&k| self.records[k].state != ContactState::Open).collect();
         order.sort_by_key(|&k| self.records[k].element_pair());
         let (mut mat, mut w, mut wm) = (Vec::new(), Vec::new(), Vec::new());
-        let mut k = 0;
-        while k < order.len() {
-            let key = self.records[order[k]].element_pair();
-            let cp = coupling(key);
+        for points in order.chunk_by(|&a, &b| self.records[a].element_pair() == self.records[b].element_pair()) {
+            let cp = coupling(self.records[points[0]].element_pair());
             let m = cp.nodes();
             mat.clear();
             mat.resize(9 * m * m, 0.0);
-            while k < order.len() && self.records[order[k]].element_pair() == key {
-                let r = &self.records[order[k]];
-                k += 1;
+            for &k in points {
+                let r = &self.records[k];
                 let (block, f) = r.spring();
                 // Weights in the clique order of the pair (lower ME first); B's negative.
                 let (first, second, sign) =
@@ -47,14 +45,13 @@ impl ContactHistory {
                     force[c] += *wc * f;
                 }
                 cp.node_weights(&w, &mut wm);
-                for (a, wa) in wm.iter().enumerate().filter(|(_, x)| **x != 0.0) {
-                    for (b, wb) in wm.iter().enumerate().filter(|(_, x)| **x != 0.0) {
-                        let s = wa * wb;
-                        for i in 0..3 {
-                            for j in 0..3 {
-                                mat[(3 * a + i) * 3 * m + 3 * b + j] += s * block[(i, j)];
-                            }
-                        }
+                let b: [f64; 9] = std::array::from_fn(|t| block[(t / 3, t % 3)]);
+                // The lower node blocks (q ≤ p: the coupling's nodes are in equation order).
+                for (p, &wp) in wm.iter().enumerate().filter(|(_, x)| **x != 0.0) {
+                    for (q, &wq) in wm[..=p].iter().enumerate().filter(|(_, x)| **x != 0.0) {
+                        let s = wp * wq;
+                        let dst = &mut mat[9 * (p * m + q)..][..9];
+                        dst.iter_mut().zip(&b).for_each(|(d, b)| *d += s * b);
                     }
                 }
             }
