@@ -120,15 +120,19 @@ impl Assembler {
 /// Tᵀ L T for a (3n)² block L and scalar weights T (n × m), applied per 3 × 3 block.
 fn transform(l: &[f64], t: &[f64], m: usize) -> Vec<f64> {
     let n = t.len() / m;
+    // Each cover's nonzero weights (node, weight): the filters once, not per pair of covers.
+    let nonzero: Vec<Vec<(usize, f64)>> =
+        t.chunks_exact(m).map(|row| row.iter().copied().enumerate().filter(|&(_, w)| w != 0.0).collect()).collect();
     let mut out = vec![0.0; 9 * m * m];
-    for a in 0..n {
-        for b in 0..n {
-            for p in (0..m).filter(|&p| t[a * m + p] != 0.0) {
-                for q in (0..m).filter(|&q| t[b * m + q] != 0.0) {
-                    let w = t[a * m + p] * t[b * m + q];
+    for (a, ta) in nonzero.iter().enumerate() {
+        for (b, tb) in nonzero.iter().enumerate() {
+            for &(p, wp) in ta {
+                for &(q, wq) in tb {
+                    let w = wp * wq;
                     for i in 0..3 {
+                        let (dst, src) = ((3 * p + i) * 3 * m + 3 * q, (3 * a + i) * 3 * n + 3 * b);
                         for j in 0..3 {
-                            out[(3 * p + i) * 3 * m + 3 * q + j] += w * l[(3 * a + i) * 3 * n + 3 * b + j];
+                            out[dst + j] += w * l[src + j];
                         }
                     }
                 }
