@@ -265,3 +265,18 @@ fn every_example_reads_back_as_recorded() {
         assert_eq!(checkpoint::comparable(&back), checkpoint::comparable(&s), "{name:?}");
     }
 }
+
+/// The same on the block-preconditioned solver: its coarse space turns with the blocks (built
+/// at the nodes' positions of the step that made it), so the checkpoint carries those
+/// positions and the resumed run rebuilds the same preconditioner.
+#[test]
+fn dominos_on_the_block_solver_resume_bit_identically() {
+    let text = common::with_each(
+        &common::example("dominos.toml"),
+        &[("duration = 5.0", "duration = 0.1"), ("[analysis]", "[analysis]\nlinear_solver = \"blocks\"")],
+    );
+    let mid = stopped_and_resumed_equals_whole("checkpoint_dominos_blocks", &text, 37);
+    let solver = &mid.stepper.factor;
+    assert!(solver.source.is_some() && !solver.geometry.is_empty(), "the preconditioner's positions are kept");
+    assert!(holds_contact_points(&mid));
+}

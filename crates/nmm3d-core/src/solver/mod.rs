@@ -2,6 +2,7 @@
 //! iterative PCG, PETSc for one huge model) can be added without touching the stepper.
 
 mod amg;
+mod block_pcg;
 mod factor_work;
 mod faer_cholesky;
 pub mod ordering;
@@ -12,9 +13,12 @@ mod single;
 mod subnormals;
 
 pub use amg::{AmgParams, AmgSolver};
+pub use block_pcg::{BlockParams, BlockPcg};
 pub use faer_cholesky::FaerCholesky;
 use pcg::PcgOutcome;
 pub use reuse::{FactorReuse, FactorSnapshot, FactorSource, ReusingSolver, SolveCounts, Solved};
+
+use nmm3d_geom::Vec3;
 
 use crate::assembly::SparsityPattern;
 
@@ -75,12 +79,27 @@ pub trait LinearSolver: Send {
     /// Seconds spent in symbolic analysis and in numeric factorisation so far.
     fn timings(&self) -> (f64, f64);
     /// Solve a matrix near the last factorised one by this solver's own iterations on that
-    /// factorisation (an iterative solver: its preconditioner serves nearby matrices); `None`:
-    /// the caller's PCG with [`LinearSolver::solve`] as the preconditioner does it.
-    fn solve_nearby(&mut self, _pattern: &SparsityPattern, _values: &[f64], _rhs: &mut [f64]) -> Option<PcgOutcome> {
+    /// factorisation (an iterative solver: its preconditioner serves nearby matrices), to the
+    /// relative `tolerance` where the solver takes it; `None`: the caller's PCG with
+    /// [`LinearSolver::solve`] as the preconditioner does it.
+    fn solve_nearby(
+        &mut self,
+        _pattern: &SparsityPattern,
+        _values: &[f64],
+        _rhs: &mut [f64],
+        _tolerance: f64,
+    ) -> Option<PcgOutcome> {
         None
     }
-    /// "direct" or "amg" (the summary's `linear_solver`).
+    /// The nodes (free covers, three equations each) are now at `positions` [m]: a solver
+    /// whose preconditioner is built on the model's geometry follows it.
+    fn moved(&mut self, _positions: &[Vec3]) {}
+    /// The node positions the current factorisation was made at, if it depends on them (a
+    /// checkpoint restores them before re-making it) [m].
+    fn built_at(&self) -> &[Vec3] {
+        &[]
+    }
+    /// "direct", "amg" or "blocks" (the summary's `linear_solver`).
     fn name(&self) -> &'static str {
         "direct"
     }

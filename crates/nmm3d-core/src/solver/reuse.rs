@@ -91,6 +91,10 @@ pub struct FactorSnapshot {
     pub spent: u64,
     /// Counters so far.
     pub counts: SolveCounts,
+    /// The node positions the source's preconditioner was built at, x, y, z per node (solvers
+    /// built on the model's geometry, `linear_solver = "blocks"`; empty otherwise) [m].
+    #[serde(default, with = "crate::packed")]
+    pub geometry: Vec<f64>,
 }
 
 /// What the solver did so far.
@@ -197,7 +201,7 @@ impl ReusingSolver {
         rhs: &mut [f64],
         (tol, close): (f64, bool),
     ) -> Option<u32> {
-        let converged = match self.direct.solve_nearby(pattern, values, rhs) {
+        let converged = match self.direct.solve_nearby(pattern, values, rhs, tol) {
             Some(out) => out.converged.then_some(out.iterations),
             None => {
                 let mut x = vec![0.0; rhs.len()];
@@ -301,12 +305,17 @@ impl ReusingSolver {
             .filter(|a| self.source.as_ref().is_none_or(|s| s.pattern != *a));
         let (source, renew, pattern_changed, spent, counts) =
             (self.source.clone(), self.renew, self.pattern_changed, self.spent, self.counts);
-        FactorSnapshot { source, analysed, renew, pattern_changed, spent, counts }
+        let geometry = self.direct.built_at().iter().flat_map(|x| [x.x, x.y, x.z]).collect();
+        FactorSnapshot { source, analysed, renew, pattern_changed, spent, counts, geometry }
     }
 
     /// Continue from a snapshot: re-make its analysis and factor.
     pub fn restore(&mut self, s: FactorSnapshot) -> Result<(), SolverFailure> {
         self.direct.new_pattern();
+        if !s.geometry.is_empty() {
+            let at: Vec<_> = s.geometry.chunks(3).map(|x| nmm3d_geom::Vec3::new(x[0], x[1], x[2])).collect();
+            self.direct.moved(&at);
+        }
         if let Some(a) = &s.analysed {
             self.direct.analyse_pattern(a)?;
         }
@@ -332,7 +341,12 @@ impl ReusingSolver {
         self.direct.timings()
     }
 
-    /// "direct" or "amg".
+    /// The nodes are now at `positions` [m] (see [`LinearSolver::moved`]).
+    pub fn moved(&mut self, positions: &[nmm3d_geom::Vec3]) {
+        self.direct.moved(positions);
+    }
+
+    /// "direct", "amg" or "blocks".
     pub fn name(&self) -> &'static str {
         self.direct.name()
     }

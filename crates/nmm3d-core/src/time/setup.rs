@@ -4,7 +4,9 @@
 use crate::assembly::dof_map::CoverDofs;
 use crate::contact::ContactParams;
 use crate::scenario::{AnalysisKind, SolverChoice, Stiffness};
-use crate::solver::{AmgParams, AmgSolver, FactorReuse, FaerCholesky, LinearSolver, ReusingSolver};
+use crate::solver::{
+    AmgParams, AmgSolver, BlockParams, BlockPcg, FactorReuse, FaerCholesky, LinearSolver, ReusingSolver,
+};
 use crate::system::System;
 
 /// The linear solver `[analysis]` asks for (faer's Cholesky, or multigrid PCG) with factor
@@ -27,6 +29,7 @@ fn linear_solver(sys: &System) -> Box<dyn LinearSolver> {
     let amg = match a.linear_solver {
         SolverChoice::Direct => false,
         SolverChoice::Amg => true,
+        SolverChoice::Blocks => return Box::new(block_solver(sys)),
         SolverChoice::Auto => sys.geometry.blocks.len() == 1 && sys.dofs.n_eq as u64 >= a.amg_min_equations,
     };
     if !amg {
@@ -50,6 +53,20 @@ fn linear_solver(sys: &System) -> Box<dyn LinearSolver> {
     };
     let params = AmgParams { tolerance, nearby_tolerance, ..AmgParams::default() };
     Box::new(AmgSolver::new(positions, params))
+}
+
+/// Conjugate gradients preconditioned by the blocks ([`BlockPcg`]): each free cover's block
+/// and position.
+fn block_solver(sys: &System) -> BlockPcg {
+    let nodes = sys.dofs.n_eq / 3;
+    let (mut block, mut at) = (vec![0u32; nodes], vec![nmm3d_geom::Vec3::zeros(); nodes]);
+    for (kind, cover) in sys.dofs.kind.iter().zip(&sys.covers.covers) {
+        if let CoverDofs::Free(e) = kind {
+            (block[*e as usize / 3], at[*e as usize / 3]) = (cover.block as u32, cover.position);
+        }
+    }
+    let params = BlockParams { tolerance: sys.scenario.analysis.krylov_tolerance, ..BlockParams::default() };
+    BlockPcg::new(block, &at, params)
 }
 
 /// Contact penalties and tolerances from the scenario's `[contact]`, read once ("auto":

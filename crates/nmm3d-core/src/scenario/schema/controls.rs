@@ -203,6 +203,9 @@ pub enum SolverChoice {
     Direct,
     /// Conjugate gradients preconditioned by smoothed-aggregation multigrid.
     Amg,
+    /// Conjugate gradients preconditioned by the blocks: each block's equations solved by its
+    /// own factor, the blocks' rigid motions by a coarse factor (many blocks on soft joints).
+    Blocks,
 }
 
 /// How strain is measured in each manifold element.

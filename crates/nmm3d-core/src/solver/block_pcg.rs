@@ -1,0 +1,734 @@
+//! Conjugate gradients preconditioned by the blocks themselves, for rock masses of many blocks
+//! (`linear_solver = "blocks"`): a two-level preconditioner whose subdomains are the blocks.
+//! Each block's own equations (its covers, with the contact springs' diagonal parts) are solved
+//! exactly by one sparse Cholesky factor of the block-diagonal part B of A; the coarse space is
+//! the blocks' rigid motions, Φ (six columns per block: three translations and three rotations
+//! about its centroid), with A_c = Φᵀ A Φ factorised too. Jointed blocks are stiff beside their
+//! joints, so the system's softest modes are the blocks moving as rigid bodies against each
+//! other: exactly what Φ spans. The two levels are combined symmetrically (the balancing form of
+//! Mandel 1993, *Commun. Numer. Methods Eng.* 9; Toselli and Widlund 2005, §2.5.2):
+//!
+//!   M⁻¹ r = Q r + (I − Q A) B⁻¹ (I − A Q) r,   Q = Φ A_c⁻¹ Φᵀ,
+//!
+//! symmetric positive definite when A is. Unlike a direct factor of the whole web of blocks,
+//! whose fill grows as N^(4/3) and its work as N² (the top separators of a three-dimensional
+//! web are dense), B's factor holds each block alone and A_c has six equations per block.
+//! "Factorising" makes both factors; a solve runs PCG to the tolerance and, should it not
+//! converge, factorises the whole matrix instead — never a wrong answer.
+
+use std::time::Instant;
+
+use nmm3d_geom::Vec3;
+
+use super::faer_cholesky::FaerCholesky;
+use super::pcg::{pcg_with, PcgOutcome};
+use super::{LinearSolver, SolverFailure};
+use crate::assembly::SparsityPattern;
+use crate::scenario::{FactorPrecision, Ordering};
+
+/// Settings of the block-preconditioned conjugate gradients.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BlockParams {
+    /// Relative preconditioned residual at which PCG has converged [-].
+    pub tolerance: f64,
+    /// PCG iterations before the whole matrix is factorised instead [-].
+    pub max_iterations: u32,
+}
+
+impl Default for BlockParams {
+    fn default() -> Self {
+        Self { tolerance: 1e-10, max_iterations: 200 }
+    }
+}
+
+/// Where each entry of a pattern goes: the block-diagonal part's entry, or the coarse pair.
+struct Layout {
+    /// The pattern this layout was made for.
+    pattern: SparsityPattern,
+    /// The block-diagonal part of the pattern (entries whose two nodes share a block).
+    local: SparsityPattern,
+    /// For each entry of `pattern`, its index in `local` (`u32::MAX`: between blocks).
+    local_of: Vec<u32>,
+    /// The coarse pattern (lower triangle, 6 × 6 per pair of blocks coupled).
+    coarse: SparsityPattern,
+    /// For each coupled pair of blocks (by column block, then row block), the value index of
+    /// its first stored entry in each of its six coarse columns.
+    pair_start: Vec<[u32; 6]>,
+    /// For each slot of AΦ (a row's block), the pair of the row's block and it in `pair_start`.
+    slot_pair: Vec<u32>,
+    /// AΦ's rows: row i holds six values for each block in `a_phi_blocks[a_phi_rows[i]..]`.
+    a_phi_rows: Vec<u32>,
+    /// The blocks each row of A couples to (sorted within a row).
+    a_phi_blocks: Vec<u32>,
+    /// For each entry (i, j) of `pattern`: where row i meets block(j), and row j block(i).
+    a_phi_slot: Vec<[u32; 2]>,
+}
+
+/// AΦ (n × 6 per block), by rows: A applied to the blocks' rigid motions.
+#[derive(Default)]
+struct APhi {
+    rows: Vec<u32>,
+    blocks: Vec<u32>,
+    values: Vec<f64>,
+}
+
+/// The preconditioner: the blocks' factor and the coarse factor, with the coarse space.
+struct TwoLevel {
+    /// Block of each node (three equations) [-].
+    node_block: Vec<u32>,
+    /// Each node's position relative to its block's centroid, over the block's size [-].
+    arms: Vec<Vec3>,
+    /// Each equation's row of Φ ([`phi_row`]).
+    phi: Vec<[f64; 6]>,
+    /// The nodes' positions `arms` were made of, and those the factors were made at [m].
+    positions: Vec<Vec3>,
+    built_at: Vec<Vec3>,
+    local: FaerCholesky,
+    coarse: FaerCholesky,
+    /// Equations of the coarse system (six per block).
+    coarse_n: usize,
+    a_phi: APhi,
+}
+
+/// Conjugate gradients preconditioned by the blocks and their rigid motions.
+pub struct BlockPcg {
+    params: BlockParams,
+    pre: TwoLevel,
+    layout: Option<Layout>,
+    /// The matrix last "factorised" (its lower triangle on the layout's pattern).
+    values: Vec<f64>,
+    /// That matrix's own factor, where the coarse space failed it.
+    whole: Option<FaerCholesky>,
+    /// PCG iterations so far.
+    pub iterations: u64,
+    /// Solves that did not converge and were factorised instead.
+    pub fallbacks: u64,
+    setup_seconds: f64,
+}
+
+impl BlockPcg {
+    /// A solver for systems whose node i (equations 3i..3i + 3) belongs to block
+    /// `node_block[i]` and sits at `positions[i]` [m].
+    pub fn new(node_block: Vec<u32>, positions: &[Vec3], params: BlockParams) -> Self {
+        // Blocks numbered by their nodes (a fixed block has none, and no columns in Φ).
+        let mut number = std::collections::BTreeMap::new();
+        for &b in &node_block {
+            let next = number.len() as u32;
+            number.entry(b).or_insert(next);
+        }
+        let node_block: Vec<u32> = node_block.iter().map(|b| number[b]).collect();
+        let direct = || FaerCholesky::new(Ordering::Amd).with_precision(FactorPrecision::Double);
+        let pre = TwoLevel {
+            node_block,
+            arms: Vec::new(),
+            phi: Vec::new(),
+            positions: Vec::new(),
+            built_at: Vec::new(),
+            local: direct(),
+            coarse: direct(),
+            coarse_n: 0,
+            a_phi: APhi::default(),
+        };
+        let mut s = Self {
+            params,
+            pre,
+            layout: None,
+            values: Vec::new(),
+            whole: None,
+            iterations: 0,
+            fallbacks: 0,
+            setup_seconds: 0.0,
+        };
+        s.pre.moved(positions);
+        s
+    }
+
+    /// Make both factors of the matrix `values` on `p`.
+    fn setup(&mut self, p: &SparsityPattern, values: &[f64]) -> Result<(), SolverFailure> {
+        let pre = &mut self.pre;
+        if pre.node_block.len() * 3 != p.n {
+            let nodes = pre.node_block.len();
+            return Err(SolverFailure::Analysis(format!("{} equations for {nodes} nodes of three", p.n)));
+        }
+        if self.layout.as_ref().is_none_or(|l| l.pattern != *p) {
+            let layout = Layout::new(p, &pre.node_block);
+            if self.layout.as_ref().is_none_or(|l| l.local != layout.local) {
+                pre.local.new_pattern();
+            }
+            if self.layout.as_ref().is_none_or(|l| l.coarse != layout.coarse) {
+                pre.coarse.new_pattern();
+            }
+            pre.coarse_n = layout.coarse.n;
+            self.layout = Some(layout);
+        }
+        let layout = self.layout.as_ref().expect("made above");
+        let mut local = vec![0.0; layout.local.nnz()];
+        for (k, &l) in layout.local_of.iter().enumerate().filter(|(_, l)| **l != u32::MAX) {
+            local[l as usize] = values[k];
+        }
+        pre.local.factorize(&layout.local, &local)?;
+        pre.a_phi = layout.a_phi(values, &pre.phi);
+        pre.built_at.clone_from(&pre.positions);
+        let coarse = layout.coarse_values(&pre.a_phi, &pre.node_block, &pre.phi);
+        self.values.clear();
+        self.values.extend_from_slice(values);
+        self.whole = None;
+        if pre.coarse.factorize(&layout.coarse, &coarse).is_err() {
+            // A block whose nodes do not span its rotations (collinear) makes A_c singular:
+            // this matrix is solved by its own factor instead.
+            self.fallbacks += 1;
+            let mut whole = FaerCholesky::new(Ordering::Auto).with_precision(FactorPrecision::Double);
+            whole.factorize(p, values)?;
+            self.whole = Some(whole);
+        }
+        Ok(())
+    }
+
+    /// The same matrix factorised whole, for a solve PCG did not finish (a matrix that is not
+    /// positive definite leaves NaN, which fails the step).
+    fn fall_back(&mut self, rhs: &mut [f64]) {
+        self.fallbacks += 1;
+        let Some(layout) = self.layout.as_ref() else { return rhs.fill(f64::NAN) };
+        let mut direct = FaerCholesky::new(Ordering::Auto).with_precision(FactorPrecision::Double);
+        match direct.factorize(&layout.pattern, &self.values) {
+            Ok(()) => direct.solve(rhs),
+            Err(_) => rhs.fill(f64::NAN),
+        }
+    }
+}
+
+impl TwoLevel {
+    /// The nodes moved to `positions`: the rotations of the coarse space turn about the blocks'
+    /// current centroids (from the next factorisation on).
+    fn moved(&mut self, positions: &[Vec3]) {
+        let blocks = self.node_block.iter().map(|&b| b as usize + 1).max().unwrap_or(0);
+        let (mut sum, mut count) = (vec![Vec3::zeros(); blocks], vec![0.0; blocks]);
+        for (&b, x) in self.node_block.iter().zip(positions) {
+            sum[b as usize] += x;
+            count[b as usize] += 1.0;
+        }
+        let centre: Vec<Vec3> = sum.iter().zip(&count).map(|(s, &c)| if c > 0.0 { s / c } else { *s }).collect();
+        let mut size = vec![0.0f64; blocks];
+        for (&b, x) in self.node_block.iter().zip(positions) {
+            size[b as usize] = size[b as usize].max((x - centre[b as usize]).norm());
+        }
+        // Over the block's size, so that rotations and translations weigh alike in A_c.
+        self.arms = (self.node_block.iter().zip(positions))
+            .map(|(&b, x)| match size[b as usize] {
+                s if s > 0.0 => (x - centre[b as usize]) / s,
+                _ => Vec3::zeros(),
+            })
+            .collect();
+        self.phi = (0..3 * self.arms.len()).map(|e| phi_row(&self.arms[e / 3], e % 3)).collect();
+        self.positions = positions.to_vec();
+    }
+
+    /// Φᵀ v: per block, the force and the moment (over the block's size) of the nodes' `v`.
+    fn restrict(&self, v: &[f64], out: &mut [f64]) {
+        out.fill(0.0);
+        for (i, (&b, arm)) in self.node_block.iter().zip(&self.arms).enumerate() {
+            let f = Vec3::new(v[3 * i], v[3 * i + 1], v[3 * i + 2]);
+            let m = arm.cross(&f);
+            let o = &mut out[6 * b as usize..6 * b as usize + 6];
+            (0..3).for_each(|k| (o[k], o[k + 3]) = (o[k] + f[k], o[k + 3] + m[k]));
+        }
+    }
+
+    /// v += Φ c: each node moved by its block's translation and rotation.
+    fn prolong_add(&self, c: &[f64], v: &mut [f64]) {
+        for (i, (&b, arm)) in self.node_block.iter().zip(&self.arms).enumerate() {
+            let o = &c[6 * b as usize..6 * b as usize + 6];
+            let u = Vec3::new(o[0], o[1], o[2]) + Vec3::new(o[3], o[4], o[5]).cross(arm);
+            (0..3).for_each(|k| v[3 * i + k] += u[k]);
+        }
+    }
+
+    /// Solve A x = b by PCG on this preconditioner, A given by `times`.
+    fn pcg(&mut self, times: impl Fn(&[f64], &mut [f64]), b: &[f64], x: &mut [f64], tol: (f64, u32)) -> PcgOutcome {
+        let n = b.len();
+        let (mut c, mut w, mut t) = (vec![0.0; self.coarse_n], vec![0.0; self.coarse_n], vec![0.0; n]);
+        // M⁻¹ r = Q r + (I − QA) B⁻¹ (I − AQ) r = y + Φ (c − A_c⁻¹ (AΦ)ᵀ y), with c = A_c⁻¹ Φᵀ r and
+        // y = B⁻¹ (r − AΦ c): A enters only through AΦ, made with the factors.
+        let precondition = |r: &mut [f64]| {
+            self.restrict(r, &mut c);
+            self.coarse.solve(&mut c);
+            self.a_phi.times(&c, &mut t);
+            t.iter_mut().zip(r.iter()).for_each(|(t, r)| *t = r - *t);
+            self.local.solve(&mut t);
+            self.a_phi.transpose_times(&t, &mut w);
+            self.coarse.solve(&mut w);
+            w.iter_mut().zip(&c).for_each(|(w, c)| *w = c - *w);
+            r.copy_from_slice(&t);
+            self.prolong_add(&w, r);
+        };
+        pcg_with(&times, b, x, precondition, tol.0, tol.1)
+    }
+}
+
+impl APhi {
+    /// out = AΦ c.
+    fn times(&self, c: &[f64], out: &mut [f64]) {
+        for (i, o) in out.iter_mut().enumerate() {
+            let (lo, hi) = (self.rows[i] as usize, self.rows[i + 1] as usize);
+            *o = (lo..hi)
+                .map(|s| {
+                    let (v, b) = (&self.values[6 * s..6 * s + 6], 6 * self.blocks[s] as usize);
+                    v.iter().zip(&c[b..b + 6]).map(|(v, c)| v * c).sum::<f64>()
+                })
+                .sum();
+        }
+    }
+
+    /// out = (AΦ)ᵀ y.
+    fn transpose_times(&self, y: &[f64], out: &mut [f64]) {
+        out.fill(0.0);
+        for (i, &yi) in y.iter().enumerate() {
+            for s in self.rows[i] as usize..self.rows[i + 1] as usize {
+                let b = 6 * self.blocks[s] as usize;
+                out[b..b + 6].iter_mut().zip(&self.values[6 * s..6 * s + 6]).for_each(|(o, v)| *o += v * yi);
+            }
+        }
+    }
+}
+
+impl Layout {
+    /// The block-diagonal part and the coarse pattern of `p` for nodes in `node_block`.
+    fn new(p: &SparsityPattern, node_block: &[u32]) -> Self {
+        let n = p.n;
+        let blocks = node_block.iter().map(|&b| b as usize + 1).max().unwrap_or(0);
+        let block = |eq: u32| node_block[eq as usize / 3];
+        // The block-diagonal part.
+        let (mut col_ptr, mut row_idx) = (vec![0u32], Vec::new());
+        let mut local_of = vec![u32::MAX; p.nnz()];
+        for j in 0..n {
+            for k in p.col_ptr[j] as usize..p.col_ptr[j + 1] as usize {
+                if block(p.row_idx[k]) == block(j as u32) {
+                    local_of[k] = row_idx.len() as u32;
+                    row_idx.push(p.row_idx[k]);
+                }
+            }
+            col_ptr.push(row_idx.len() as u32);
+        }
+        let local = SparsityPattern { n, col_ptr, row_idx };
+        // Coupled pairs of blocks (row block ≥ column block), by column block.
+        let mut rows: Vec<Vec<u32>> = vec![Vec::new(); blocks];
+        for j in 0..n {
+            for &i in &p.row_idx[p.col_ptr[j] as usize..p.col_ptr[j + 1] as usize] {
+                let (a, b) = (block(i), block(j as u32));
+                rows[a.min(b) as usize].push(a.max(b));
+            }
+        }
+        rows.iter_mut().for_each(|r| {
+            r.sort_unstable();
+            r.dedup();
+        });
+        // Every block couples to itself (its diagonal), so each has its six columns.
+        for (b, r) in rows.iter_mut().enumerate() {
+            if r.first() != Some(&(b as u32)) {
+                r.insert(0, b as u32);
+            }
+        }
+        let (mut col_ptr, mut row_idx) = (vec![0u32], Vec::new());
+        let mut pair_start = Vec::new();
+        let mut first_pair = vec![0u32; blocks];
+        for (b, r) in rows.iter().enumerate() {
+            first_pair[b] = pair_start.len() as u32;
+            let base = pair_start.len();
+            pair_start.extend(r.iter().map(|_| [0u32; 6]));
+            for q in 0..6 {
+                for (k, &a) in r.iter().enumerate() {
+                    pair_start[base + k][q] = row_idx.len() as u32;
+                    let from = if a as usize == b { q } else { 0 };
+                    row_idx.extend((from..6).map(|i| 6 * a + i as u32));
+                }
+                col_ptr.push(row_idx.len() as u32);
+            }
+        }
+        let coarse = SparsityPattern { n: 6 * blocks, col_ptr, row_idx };
+        let (a_phi_rows, a_phi_blocks, a_phi_slot) = a_phi_structure(p, node_block);
+        let slot_pair = (0..p.n)
+            .flat_map(|i| (a_phi_rows[i]..a_phi_rows[i + 1]).map(move |s| (i, s as usize)))
+            .map(|(i, s)| {
+                let (a, b) = (node_block[i / 3], a_phi_blocks[s]);
+                let (hi, lo) = (a.max(b), a.min(b));
+                first_pair[lo as usize] + rows[lo as usize].binary_search(&hi).expect("coupled") as u32
+            })
+            .collect();
+        Self {
+            pattern: p.clone(),
+            local,
+            local_of,
+            coarse,
+            pair_start,
+            slot_pair,
+            a_phi_rows,
+            a_phi_blocks,
+            a_phi_slot,
+        }
+    }
+
+    /// AΦ from A's lower triangle `values`: entry (i, j) adds a φ_j to row i at block(j), and
+    /// (for i ≠ j) a φ_i to row j at block(i).
+    fn a_phi(&self, values: &[f64], phi: &[[f64; 6]]) -> APhi {
+        let p = &self.pattern;
+        let mut out = vec![0.0; 6 * self.a_phi_blocks.len()];
+        for j in 0..p.n {
+            for k in p.col_ptr[j] as usize..p.col_ptr[j + 1] as usize {
+                let (i, v) = (p.row_idx[k] as usize, values[k]);
+                let [si, sj] = self.a_phi_slot[k];
+                let at = 6 * si as usize;
+                out[at..at + 6].iter_mut().zip(&phi[j]).for_each(|(o, f)| *o += v * f);
+                if i != j {
+                    let at = 6 * sj as usize;
+                    out[at..at + 6].iter_mut().zip(&phi[i]).for_each(|(o, f)| *o += v * f);
+                }
+            }
+        }
+        APhi { rows: self.a_phi_rows.clone(), blocks: self.a_phi_blocks.clone(), values: out }
+    }
+
+    /// A_c = Φᵀ (AΦ) on the coarse pattern: row i of AΦ at block b adds φ_i ⊗ (AΦ)_ib into
+    /// the pair (block(i), b), kept where that lies in A_c's lower triangle.
+    fn coarse_values(&self, a_phi: &APhi, node_block: &[u32], phi: &[[f64; 6]]) -> Vec<f64> {
+        let mut out = vec![0.0; self.coarse.nnz()];
+        for (i, f) in phi.iter().enumerate() {
+            let bi = node_block[i / 3];
+            for s in a_phi.rows[i] as usize..a_phi.rows[i + 1] as usize {
+                let b = a_phi.blocks[s];
+                if bi < b {
+                    continue;
+                }
+                let pair = &self.pair_start[self.slot_pair[s] as usize];
+                let column = &a_phi.values[6 * s..6 * s + 6];
+                for (c, &w) in column.iter().enumerate() {
+                    let (from, start) = (if bi == b { c } else { 0 }, pair[c] as usize);
+                    for r in from..6 {
+                        out[start + r - from] += f[r] * w;
+                    }
+                }
+            }
+        }
+        // A rotation no node of its block moves (a block of one node, or of two along an
+        // axis) is a zero column of Φ: its equation of A_c is made the identity's.
+        for j in 0..self.coarse.n {
+            let diagonal = self.coarse.col_ptr[j] as usize;
+            if out[diagonal] == 0.0 {
+                out[diagonal] = 1.0;
+            }
+        }
+        out
+    }
+}
+
+/// Row `c` (0–2) of a node's Φ: the translation's unit c and the rotations' (e_a × arm)_c.
+fn phi_row(arm: &Vec3, c: usize) -> [f64; 6] {
+    let mut row = [0.0; 6];
+    row[c] = 1.0;
+    for a in 0..3 {
+        row[3 + a] = Vec3::ith(a, 1.0).cross(arm)[c];
+    }
+    row
+}
+
+/// AΦ's structure for pattern `p`: per equation the blocks its row couples to, and where each
+/// entry of `p` adds into them (see [`Layout`]).
+fn a_phi_structure(p: &SparsityPattern, node_block: &[u32]) -> (Vec<u32>, Vec<u32>, Vec<[u32; 2]>) {
+    let block = |eq: usize| node_block[eq / 3];
+    let mut lists: Vec<Vec<u32>> = vec![Vec::new(); p.n];
+    for j in 0..p.n {
+        for &i in &p.row_idx[p.col_ptr[j] as usize..p.col_ptr[j + 1] as usize] {
+            lists[i as usize].push(block(j));
+            lists[j].push(block(i as usize));
+        }
+    }
+    let (mut rows, mut blocks) = (vec![0u32], Vec::new());
+    for l in &mut lists {
+        l.sort_unstable();
+        l.dedup();
+        blocks.extend_from_slice(l);
+        rows.push(blocks.len() as u32);
+    }
+    let slot = |row: usize, b: u32| rows[row] + lists[row].binary_search(&b).expect("listed above") as u32;
+    let mut slots = Vec::with_capacity(p.nnz());
+    for j in 0..p.n {
+        for &i in &p.row_idx[p.col_ptr[j] as usize..p.col_ptr[j + 1] as usize] {
+            slots.push([slot(i as usize, block(j)), slot(j, block(i as usize))]);
+        }
+    }
+    (rows, blocks, slots)
+}
+
+impl LinearSolver for BlockPcg {
+    fn factorize(&mut self, pattern: &SparsityPattern, values: &[f64]) -> Result<(), SolverFailure> {
+        let t = Instant::now();
+        let made = self.setup(pattern, values);
+        self.setup_seconds += t.elapsed().as_secs_f64();
+        made
+    }
+
+    fn new_pattern(&mut self) {}
+
+    fn solve(&mut self, rhs: &mut [f64]) {
+        if let Some(whole) = self.whole.as_mut() {
+            return whole.solve(rhs);
+        }
+        let Some(layout) = self.layout.as_ref() else { return rhs.fill(f64::NAN) };
+        let (p, v) = (&layout.pattern, &self.values);
+        let mut x = vec![0.0; rhs.len()];
+        let tol = (self.params.tolerance, self.params.max_iterations);
+        let out = self.pre.pcg(|u, out| p.symmetric_times(v, u, out), rhs, &mut x, tol);
+        self.iterations += u64::from(out.iterations);
+        if out.converged {
+            rhs.copy_from_slice(&x);
+        } else {
+            self.fall_back(rhs);
+        }
+    }
+
+    fn solve_nearby(
+        &mut self,
+        p: &SparsityPattern,
+        values: &[f64],
+        rhs: &mut [f64],
+        tolerance: f64,
+    ) -> Option<PcgOutcome> {
+        if self.layout.is_none() || self.whole.is_some() || p.n != self.pre.node_block.len() * 3 {
+            return None;
+        }
+        let mut x = vec![0.0; rhs.len()];
+        let tol = (tolerance, self.params.max_iterations);
+        let out = self.pre.pcg(|u, out| p.symmetric_times(values, u, out), rhs, &mut x, tol);
+        self.iterations += u64::from(out.iterations);
+        if out.converged {
+            rhs.copy_from_slice(&x);
+        }
+        Some(out)
+    }
+
+    fn moved(&mut self, positions: &[Vec3]) {
+        self.pre.moved(positions);
+    }
+
+    fn built_at(&self) -> &[Vec3] {
+        &self.pre.built_at
+    }
+
+    fn name(&self) -> &'static str {
+        "blocks"
+    }
+
+    fn exact(&self) -> bool {
+        false
+    }
+
+    fn iterations(&self) -> u64 {
+        self.iterations
+    }
+
+    fn factor_nonzeros(&self) -> usize {
+        self.pre.local.factor_nonzeros() + self.pre.coarse.factor_nonzeros()
+    }
+
+    fn timings(&self) -> (f64, f64) {
+        (0.0, self.setup_seconds)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::solver::pcg::pcg;
+    use std::collections::BTreeMap;
+
+    /// A row of `blocks` cubes of 2 × 2 × 2 nodes (unit spacing, 1.5 apart along x): inside each
+    /// cube every pair of nodes is joined by an axial spring of stiffness 1 (a truss: stiff in
+    /// every deformation, free in rigid motion); neighbouring cubes by axial springs of
+    /// stiffness `joint` across the gap between facing nodes; each node held by a spring
+    /// `mass` in every direction (the inertia of a dynamic step). The lower triangle, the
+    /// nodes' blocks and positions.
+    fn row_of_cubes(blocks: usize, joint: f64, mass: f64) -> (SparsityPattern, Vec<f64>, Vec<u32>, Vec<Vec3>) {
+        let corner =
+            |b: usize, c: usize| Vec3::new(2.5 * b as f64 + (c & 1) as f64, ((c >> 1) & 1) as f64, (c >> 2) as f64);
+        let (mut at, mut block) = (Vec::new(), Vec::new());
+        for b in 0..blocks {
+            for c in 0..8 {
+                at.push(corner(b, c));
+                block.push(b as u32);
+            }
+        }
+        let mut dense = BTreeMap::<(usize, usize), f64>::new();
+        let mut spring = |a: usize, b: usize, k: f64| {
+            let d = (at[b] - at[a]).normalize();
+            for i in 0..3 {
+                for j in 0..3 {
+                    let v = k * d[i] * d[j];
+                    for (r, c, s) in [
+                        (3 * a + i, 3 * a + j, v),
+                        (3 * b + i, 3 * b + j, v),
+                        (3 * a + i, 3 * b + j, -v),
+                        (3 * b + i, 3 * a + j, -v),
+                    ] {
+                        if r >= c {
+                            *dense.entry((c, r)).or_insert(0.0) += s;
+                        }
+                    }
+                }
+            }
+        };
+        for b in 0..blocks {
+            for p in 0..8 {
+                for q in p + 1..8 {
+                    spring(8 * b + p, 8 * b + q, 1.0);
+                }
+                if b + 1 < blocks && p & 1 == 1 {
+                    spring(8 * b + p, 8 * (b + 1) + (p - 1), joint);
+                }
+            }
+        }
+        for e in 0..3 * at.len() {
+            *dense.entry((e, e)).or_insert(0.0) += mass;
+        }
+        let n = 3 * at.len();
+        let (mut col_ptr, mut row_idx, mut values) = (vec![0u32], Vec::new(), Vec::new());
+        for j in 0..n {
+            for (&(_, r), &v) in dense.range((j, j)..(j, n)) {
+                row_idx.push(r as u32);
+                values.push(v);
+            }
+            col_ptr.push(row_idx.len() as u32);
+        }
+        (SparsityPattern { n, col_ptr, row_idx }, values, block, at)
+    }
+
+    fn rhs(n: usize) -> Vec<f64> {
+        (0..n).map(|i| ((i * 7919) % 13) as f64 - 6.0 + 0.1 * i as f64).collect()
+    }
+
+    fn direct(p: &SparsityPattern, v: &[f64], b: &[f64]) -> Vec<f64> {
+        let mut f = FaerCholesky::new(Ordering::Amd);
+        f.factorize(p, v).unwrap();
+        let mut x = b.to_vec();
+        f.solve(&mut x);
+        x
+    }
+
+    fn relative(a: &[f64], b: &[f64]) -> f64 {
+        let d: f64 = a.iter().zip(b).map(|(a, b)| (a - b).powi(2)).sum();
+        (d / b.iter().map(|b| b * b).sum::<f64>()).sqrt()
+    }
+
+    #[test]
+    fn the_coarse_matrix_is_phi_transpose_a_phi() {
+        let (p, v, block, at) = row_of_cubes(3, 0.3, 0.01);
+        let mut s = BlockPcg::new(block, &at, BlockParams::default());
+        s.factorize(&p, &v).unwrap();
+        let (layout, pre) = (s.layout.as_ref().unwrap(), &s.pre);
+        // Φ column by column (Φ e_k), A Φ by products, Φᵀ A Φ by restriction.
+        let (n, m) = (p.n, layout.coarse.n);
+        let mut want = vec![vec![0.0; m]; m];
+        for k in 0..m {
+            let (mut e, mut col, mut a_col, mut out) = (vec![0.0; m], vec![0.0; n], vec![0.0; n], vec![0.0; m]);
+            e[k] = 1.0;
+            pre.prolong_add(&e, &mut col);
+            p.symmetric_times(&v, &col, &mut a_col);
+            pre.restrict(&a_col, &mut out);
+            want[k] = out;
+        }
+        let got = layout.coarse_values(&pre.a_phi, &pre.node_block, &pre.phi);
+        let c = &layout.coarse;
+        for j in 0..m {
+            for k in c.col_ptr[j] as usize..c.col_ptr[j + 1] as usize {
+                let i = c.row_idx[k] as usize;
+                assert!((got[k] - want[i][j]).abs() <= 1e-12 * (1.0 + want[i][j].abs()), "({i}, {j})");
+            }
+        }
+        // Every nonzero of Φᵀ A Φ in the lower triangle is stored.
+        let stored: usize = (0..m).map(|i| (0..=i).filter(|&j| want[i][j].abs() > 1e-14).count()).sum();
+        assert!(c.nnz() >= stored);
+    }
+
+    #[test]
+    fn the_block_preconditioned_solve_equals_the_direct_one() {
+        let (p, v, block, at) = row_of_cubes(6, 1e-3, 1e-4);
+        let b = rhs(p.n);
+        let mut s = BlockPcg::new(block, &at, BlockParams::default());
+        s.factorize(&p, &v).unwrap();
+        let mut x = b.clone();
+        s.solve(&mut x);
+        assert!(relative(&x, &direct(&p, &v, &b)) < 1e-8);
+        assert_eq!(s.fallbacks, 0);
+        assert!(s.iterations <= 10, "{} iterations", s.iterations);
+    }
+
+    #[test]
+    fn the_blocks_rigid_motions_are_what_block_jacobi_alone_misses() {
+        // Thirty stiff cubes on soft joints: block Jacobi (each cube's own equations solved
+        // exactly) leaves the row's slow rigid motions to CG; the coarse space solves them.
+        let (p, v, block, at) = row_of_cubes(30, 1e-3, 1e-5);
+        let b = rhs(p.n);
+        let mut s = BlockPcg::new(block, &at, BlockParams::default());
+        s.factorize(&p, &v).unwrap();
+        let mut x = b.clone();
+        s.solve(&mut x);
+        let two_level = s.iterations;
+        let mut y = vec![0.0; p.n];
+        let local = &mut s.pre.local;
+        let jacobi = pcg(&p, &v, &b, &mut y, |r| local.solve(r), 1e-10, 2000);
+        assert!(jacobi.converged && relative(&y, &x) < 1e-7);
+        assert!(two_level <= 12 && jacobi.iterations >= 4 * two_level as u32, "{two_level} against {jacobi:?}");
+    }
+
+    #[test]
+    fn a_block_of_one_node_has_no_rotations_and_still_preconditions() {
+        // The last cube's last node taken as a block of its own: its rotations move nothing.
+        let (p, v, mut block, at) = row_of_cubes(3, 1e-2, 1e-4);
+        *block.last_mut().unwrap() = 3;
+        let b = rhs(p.n);
+        let mut s = BlockPcg::new(block, &at, BlockParams::default());
+        s.factorize(&p, &v).unwrap();
+        let mut x = b.clone();
+        s.solve(&mut x);
+        assert!(s.whole.is_none() && s.fallbacks == 0);
+        assert!(relative(&x, &direct(&p, &v, &b)) < 1e-8);
+    }
+
+    #[test]
+    fn a_solve_that_does_not_converge_is_factorised_instead() {
+        let (p, v, block, at) = row_of_cubes(4, 1e-3, 1e-4);
+        let b = rhs(p.n);
+        let mut s = BlockPcg::new(block, &at, BlockParams { max_iterations: 1, ..BlockParams::default() });
+        s.factorize(&p, &v).unwrap();
+        let mut x = b.clone();
+        s.solve(&mut x);
+        assert_eq!(s.fallbacks, 1);
+        assert!(relative(&x, &direct(&p, &v, &b)) < 1e-12);
+    }
+
+    #[test]
+    fn rotated_blocks_keep_their_rigid_motions_in_the_coarse_space() {
+        // The same row turned by a quarter turn about z and moved: built at the new positions,
+        // the coarse space holds each cube's rotations about its own centroid again.
+        let (p, v, block, at) = row_of_cubes(2, 0.1, 1e-3);
+        let turn = nalgebra::Rotation3::new(Vec3::new(0.0, 0.0, std::f64::consts::FRAC_PI_2));
+        let moved: Vec<Vec3> = at.iter().map(|x| turn * x + Vec3::new(3.0, -1.0, 2.0)).collect();
+        let mut s = BlockPcg::new(block, &at, BlockParams::default());
+        s.moved(&moved);
+        let rigid: Vec<f64> = moved
+            .iter()
+            .flat_map(|x| {
+                let u = Vec3::new(0.0, 0.0, 1.0).cross(&(x - moved[..8].iter().sum::<Vec3>() / 8.0));
+                [u.x, u.y, u.z]
+            })
+            .collect();
+        // A rotation of the first cube about its centroid (and nothing of the second) is Φ c.
+        let mut c = vec![0.0; 12];
+        let size = moved[..8].iter().map(|x| (x - moved[..8].iter().sum::<Vec3>() / 8.0).norm()).fold(0.0, f64::max);
+        c[5] = size;
+        let mut u = vec![0.0; p.n];
+        s.pre.prolong_add(&c, &mut u);
+        assert!(relative(&u[..24], &rigid[..24]) < 1e-12 && u[24..].iter().all(|x| *x == 0.0));
+        assert_eq!(s.built_at(), &[] as &[Vec3], "nothing factorised yet");
+        s.factorize(&p, &v).unwrap();
+        assert_eq!(s.built_at(), moved.as_slice());
+    }
+}
