@@ -190,9 +190,10 @@ class RunSummary:
     #: the stages of a staged analysis; the counters and timings above are the last stage's
     #: model's, ``steps`` and ``time`` the whole run's
     stages: list[StageSummary] = dataclasses.field(default_factory=list)
-    #: "direct" (sparse Cholesky) or "amg" (multigrid-preconditioned CG)
+    #: "direct" (sparse Cholesky), "amg" (multigrid-preconditioned CG) or "blocks" (CG
+    #: preconditioned by the blocks and their rigid motions)
     linear_solver: str = "direct"
-    #: PCG iterations of the multigrid solver (0 with the direct one)
+    #: PCG iterations of the multigrid or the block solver (0 with the direct one)
     multigrid_iterations: int = 0
     #: a static run with ``analysis.static_travel_limit`` that stopped with every other block in
     #: equilibrium: the blocks that moved beyond the limit (not held), farthest first

@@ -177,9 +177,7 @@ impl BlockPcg {
             // A block whose nodes do not span its rotations (collinear) makes A_c singular:
             // this matrix is solved by its own factor instead.
             self.fallbacks += 1;
-            let mut whole = FaerCholesky::new(Ordering::Auto).with_precision(FactorPrecision::Double);
-            whole.factorize(p, values)?;
-            self.whole = Some(whole);
+            self.whole = Some(whole(p, values)?);
         }
         Ok(())
     }
@@ -189,12 +187,18 @@ impl BlockPcg {
     fn fall_back(&mut self, rhs: &mut [f64]) {
         self.fallbacks += 1;
         let Some(layout) = self.layout.as_ref() else { return rhs.fill(f64::NAN) };
-        let mut direct = FaerCholesky::new(Ordering::Auto).with_precision(FactorPrecision::Double);
-        match direct.factorize(&layout.pattern, &self.values) {
-            Ok(()) => direct.solve(rhs),
+        match whole(&layout.pattern, &self.values) {
+            Ok(mut direct) => direct.solve(rhs),
             Err(_) => rhs.fill(f64::NAN),
         }
     }
+}
+
+/// The matrix `values` on `p` factorised whole (double precision, the automatic ordering).
+fn whole(p: &SparsityPattern, values: &[f64]) -> Result<FaerCholesky, SolverFailure> {
+    let mut direct = FaerCholesky::new(Ordering::Auto).with_precision(FactorPrecision::Double);
+    direct.factorize(p, values)?;
+    Ok(direct)
 }
 
 impl TwoLevel {

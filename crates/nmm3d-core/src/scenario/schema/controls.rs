@@ -72,7 +72,7 @@ pub struct Analysis {
     /// Precision of the direct solver's numeric factorisations (addition).
     pub factor_precision: FactorPrecision,
     /// Linear solver: "auto" (multigrid-preconditioned CG for a large single block, else the
-    /// direct Cholesky), "direct" or "amg" (addition).
+    /// direct Cholesky), "direct", "amg" or "blocks" (addition).
     pub linear_solver: SolverChoice,
     /// With "auto", a single block with at least this many equations is solved by multigrid
     /// PCG [-] (addition).
