@@ -182,7 +182,7 @@ impl Stepper {
             }
         }
         self.ensure_contact_pattern(sys, contact.as_ref(), state.step);
-        self.solver.moved(&node_positions(sys, state));
+        self.solver.moved(&super::vectors::node_positions(sys, state));
         let t = Instant::now();
         let (residual, keep) = self.start_residual(sys, state, run, contact.is_some());
         // The unbalanced force at the start, contacts included: M a₀ of a dynamic step.
@@ -446,15 +446,4 @@ pub(super) fn dynamic(sys: &System, run: &StepperState) -> bool {
 /// after it).
 pub(super) fn shaking(sys: &System, run: &StepperState) -> bool {
     !run.settling() && sys.scenario.seismic.moves()
-}
-
-/// Where each free cover (node of three equations) is now [m].
-fn node_positions(sys: &System, state: &Motion) -> Vec<Vec3> {
-    let mut out = vec![Vec3::zeros(); sys.n_eq() / 3];
-    for (c, cover) in sys.covers.covers.iter().enumerate() {
-        if let Some(e) = sys.dofs.eq(c, 0) {
-            out[e / 3] = cover.position + state.u[c];
-        }
-    }
-    out
 }

@@ -7,6 +7,7 @@ use nmm3d_geom::Vec3;
 use super::state::StepperState;
 use crate::error::{Error, Pivot};
 use crate::solver::SolverFailure;
+use crate::state::Motion;
 use crate::system::System;
 
 /// ½ vᵀ M v from the velocities and their product `mv` with the mass (fixed covers excluded).
@@ -114,4 +115,15 @@ pub(super) fn add_to(into: &mut [Vec3], add: Option<&[Vec3]>) {
     if let Some(f) = add {
         into.iter_mut().zip(f).for_each(|(x, f)| *x += f);
     }
+}
+
+/// Where each free cover (node of three equations) is now [m].
+pub(super) fn node_positions(sys: &System, state: &Motion) -> Vec<Vec3> {
+    let mut out = vec![Vec3::zeros(); sys.n_eq() / 3];
+    for (c, cover) in sys.covers.covers.iter().enumerate() {
+        if let Some(e) = sys.dofs.eq(c, 0) {
+            out[e / 3] = cover.position + state.u[c];
+        }
+    }
+    out
 }
