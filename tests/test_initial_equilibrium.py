@@ -111,3 +111,15 @@ def test_a_max_settle_steps_bound_stops_the_damped_steps(tmp_path):
                                                     "analysis.max_settle_steps=7"]).to_dict()
     ie = run(data, tmp_path).run_summary.initial_equilibrium
     assert not ie.converged and ie.steps <= 7 + data["analysis"].get("max_static_iterations", 50)
+
+
+def test_a_staged_runs_unsettled_start_names_its_blocks_on_the_model_that_settled(tmp_path):
+    """The staged tunnel cut short in its settling (`max_steps = 30`): the warning names the
+    block still moving on the first stage's model (block 47 of the rock mass), which the last
+    stage's model — the excavation took blocks out — numbers otherwise (this run ended in an
+    internal error when the summary looked block 47 up there)."""
+    s = nmm3d.load(str(EXAMPLES / "tunnel_key_blocks_staged.toml"), ["analysis.max_steps=30"]).run(
+        out=tmp_path / "staged").summary
+    ie = s["initial_equilibrium"]
+    assert s["status"] == "completed" and not ie["converged"]
+    assert "of body 'rock mass'" in ie["warning"] and s["blocks"] <= 47

@@ -74,6 +74,7 @@ fn run_here(scenario: Scenario, label: &str, opts: &RunOptions) -> Result<RunOut
                 steps,
                 unbalanced,
                 moving: c.initial_moving.clone(),
+                names: Vec::new(),
                 exhausted: c.initial_exhausted,
             });
             (c.state, Stepper::resume(&sys, c.stepper)?)

@@ -8,7 +8,7 @@ use crate::output::summary::{EnergySummary, FreeFallSummary, InitialEquilibrium,
 use crate::output::{checks, cuts};
 use crate::system::System;
 use crate::time::free_fall::{gravity_only, FreeFall};
-use crate::time::settle::Settled;
+use crate::time::settle::{block_name, Settled};
 use crate::time::{State, Stepper};
 
 /// What the run adds to the summary beyond its own state: how it ended, how long it took, how
@@ -145,9 +145,12 @@ fn timings(sys: &System, stepper: &Stepper, rec: &Recorder) -> BTreeMap<String, 
 fn initial_equilibrium(sys: &System, s: &Settled) -> InitialEquilibrium {
     let converged = s.converged(sys);
     let warning = (!converged).then(|| {
-        let names: Vec<String> = (s.moving.iter().take(10))
-            .map(|&b| format!("block {b} of body '{}'", sys.scenario.body[sys.geometry.blocks[b].body].name))
-            .collect();
+        // Named on the model that settled; after a resume, on this one (its own blocks only).
+        let named = |&b: &usize| (b < sys.geometry.blocks.len()).then(|| block_name(sys, b));
+        let names: Vec<String> = match s.names.is_empty() {
+            false => s.names.iter().take(10).cloned().collect(),
+            true => s.moving.iter().take(10).filter_map(named).collect(),
+        };
         let more = s.moving.len().saturating_sub(10);
         format!(
             "initial equilibrium not reached after {} steps (unbalanced force ratio {:.2e} > \

@@ -27,7 +27,7 @@ impl Stepper {
         }
         let m = &mut state.motion;
         (m.v, m.a, m.dt, m.time, m.step) = (v, a, dt, 0.0, 0);
-        let mut out = Settled { steps, unbalanced, moving: Vec::new(), exhausted: false };
+        let mut out = Settled { steps, unbalanced, moving: Vec::new(), names: Vec::new(), exhausted: false };
         // A static analysis's travel starts from a converged settlement, which is no block's
         // failure (on 10 MPa/m joints the tunnel's roof key block, at rest at 45°, settled
         // 10 mm); an unconverged one may hold a block's sliding (8 cm at 10°): counted.
@@ -38,6 +38,7 @@ impl Stepper {
             out.exhausted = !sunk(sys, &m.u, &u_start);
             let last_move: Vec<f64> = m.u.iter().zip(&u_last).map(|(u, u0)| (u - u0).norm()).collect();
             out.moving = still_moving(sys, &last_move);
+            out.names = out.moving.iter().map(|&b| block_name(sys, b)).collect();
         }
         // The run starts from the acceleration of the settled state, whose contacts hold the
         // blocks (not from the one before it, where nothing held them yet).
@@ -138,6 +139,9 @@ pub struct Settled {
     /// When it did not converge: the blocks that moved most in its last step (at least a
     /// tenth of the largest motion) — those nothing holds, or hardly.
     pub moving: Vec<usize>,
+    /// Those blocks by name ("block 3 of body 'roof'"), on the model that settled: a staged
+    /// run's summary is made on its last stage's model, whose blocks are numbered otherwise.
+    pub names: Vec<String>,
     /// When it did not converge: whether it ran out of steps (`max_settle_steps`,
     /// `max_steps`) rather than stopping at a block that moved by a cover cell.
     pub exhausted: bool,
@@ -148,6 +152,11 @@ impl Settled {
     pub fn converged(&self, sys: &System) -> bool {
         self.unbalanced <= sys.scenario.analysis.equilibrium_tolerance
     }
+}
+
+/// "block `b` of body '…'" on the model `sys`.
+pub fn block_name(sys: &System, b: usize) -> String {
+    format!("block {b} of body '{}'", sys.scenario.body[sys.geometry.blocks[b].body].name)
 }
 
 /// Blocks whose covers moved by at least a tenth of the largest cover motion `moved` [m].
