@@ -9,8 +9,8 @@ use crate::solver::{
 };
 use crate::system::System;
 
-/// The linear solver `[analysis]` asks for (faer's Cholesky, or multigrid PCG) with factor
-/// reuse.
+/// The linear solver `[analysis]` asks for (faer's Cholesky, multigrid PCG or PCG on the
+/// blocks) with factor reuse.
 pub(super) fn solver(sys: &System) -> ReusingSolver {
     let a = &sys.scenario.analysis;
     let reuse = FactorReuse {
