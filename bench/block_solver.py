@@ -1,7 +1,7 @@
 """The block-preconditioned solver (`linear_solver = "blocks"`) against the direct factor on
 jointed rock masses of 46 to 641 blocks: `examples/rock_slope.toml` (thesis case A, φ = 10°)
 with its three joint sets at the example's spacings and at a half and a third of them, each
-case in its own process, one after the other. Writes `docs/performance-block-solver.md`.
+case in its own process (`nmm3d run`), one after the other. Writes `docs/performance-block-solver.md`.
 
     python bench/block_solver.py [--steps 20]
 """
@@ -9,14 +9,11 @@ case in its own process, one after the other. Writes `docs/performance-block-sol
 from __future__ import annotations
 
 import argparse
-import json
 import os
-import subprocess
-import sys
-import tempfile
 from pathlib import Path
 
 from _page import write_page
+from _run import run_scenario
 
 ROOT = Path(__file__).resolve().parent.parent
 PAGE = ROOT / "docs" / "performance-block-solver.md"
@@ -32,28 +29,19 @@ KEYS = ["blocks", "dofs", "steps", "step_cuts", "open_close_iterations", "factor
         "krylov_solves", "multigrid_iterations", "factor_nonzeros", "wall_seconds", "max_penetration"]
 
 
-def run_case(case: tuple, solver: str, steps: int, out: str) -> dict:
-    """One case for `steps` steps of 1 ms on `solver`; what its summary says."""
-    import nmm3d
-
+def run_case(case: tuple, solver: str, steps: int) -> dict:
+    """One case for `steps` steps of 1 ms on `solver`, run as a user runs it (`_run.py`), with
+    the load when it started."""
     spacing, cover, spring = case
     sets = ["joint.rock_joint.friction_angle=10", f"cover.size={COVER / cover:.6g}",
             f"analysis.duration={steps * 1e-3:.6g}", f'analysis.linear_solver="{solver}"']
     sets += [f"joint_set.{k}.spacing={s / spacing:.6g}" for k, s in enumerate(SPACINGS)]
     if spring == "auto":
         sets.append('contact.normal_stiffness="auto"')
-    s = nmm3d.load(str(SLOPE), sets).run(out=out).summary
-    toe = s["final"]["toe_block.displacement.x"]
-    return {k: s[k] for k in KEYS} | {"case": list(case), "solver": solver, "toe": toe}
-
-
-def in_process(case: tuple, solver: str, steps: int, out: str) -> dict:
-    """`run_case` in a process of its own, with the load when it started."""
-    code = (f"import sys, json; sys.path.insert(0, {str(ROOT / 'bench')!r}); import block_solver; "
-            f"print(json.dumps(block_solver.run_case({case!r}, {solver!r}, {steps}, {out!r})))")
     load = os.getloadavg()[0]
-    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
-    return json.loads(r.stdout.strip().splitlines()[-1]) | {"load": load}
+    s = run_scenario(SLOPE, sets)
+    toe = s["final"]["toe_block.displacement.x"]
+    return {k: s[k] for k in KEYS} | {"case": list(case), "solver": solver, "toe": toe, "load": load}
 
 
 def row(r: dict) -> str:
@@ -104,11 +92,10 @@ def main() -> None:
     args = ap.parse_args()
     load0 = os.getloadavg()[0]
     rows = []
-    with tempfile.TemporaryDirectory() as tmp:
-        for case in CASES:
-            for solver in SOLVERS:
-                rows.append(in_process(case, solver, args.steps, os.path.join(tmp, f"{case}{solver}")))
-                print(f"{case} {solver}: {rows[-1]['wall_seconds']:.1f} s", flush=True)
+    for case in CASES:
+        for solver in SOLVERS:
+            rows.append(run_case(case, solver, args.steps))
+            print(f"{case} {solver}: {rows[-1]['wall_seconds']:.1f} s", flush=True)
     write_page(PAGE, "Performance: the block-preconditioned solver on jointed rock masses", "block_solver.py",
                load0, body(rows, args.steps))
 
