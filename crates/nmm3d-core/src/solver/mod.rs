@@ -91,9 +91,9 @@ pub trait LinearSolver: Send {
     ) -> Option<PcgOutcome> {
         None
     }
-    /// The nodes (free covers, three equations each) are now at `positions` [m]: a solver
-    /// whose preconditioner is built on the model's geometry follows it.
-    fn moved(&mut self, _positions: &[Vec3]) {}
+    /// The nodes (free covers, three equations each) are now at `positions()` [m]: a solver
+    /// whose preconditioner is built on the model's geometry follows it (the others never ask).
+    fn moved(&mut self, _positions: &dyn Fn() -> Vec<Vec3>) {}
     /// The node positions the current factorisation was made at, if it depends on them (a
     /// checkpoint restores them before re-making it) [m].
     fn built_at(&self) -> &[Vec3] {

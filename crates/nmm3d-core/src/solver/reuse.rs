@@ -314,7 +314,7 @@ impl ReusingSolver {
         self.direct.new_pattern();
         if !s.geometry.is_empty() {
             let at: Vec<_> = s.geometry.chunks(3).map(|x| nmm3d_geom::Vec3::new(x[0], x[1], x[2])).collect();
-            self.direct.moved(&at);
+            self.direct.moved(&|| at.clone());
         }
         if let Some(a) = &s.analysed {
             self.direct.analyse_pattern(a)?;
@@ -341,8 +341,8 @@ impl ReusingSolver {
         self.direct.timings()
     }
 
-    /// The nodes are now at `positions` [m] (see [`LinearSolver::moved`]).
-    pub fn moved(&mut self, positions: &[nmm3d_geom::Vec3]) {
+    /// The nodes are now at `positions()` [m] (see [`LinearSolver::moved`]).
+    pub fn moved(&mut self, positions: &dyn Fn() -> Vec<nmm3d_geom::Vec3>) {
         self.direct.moved(positions);
     }
 

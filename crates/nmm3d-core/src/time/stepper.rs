@@ -182,7 +182,7 @@ impl Stepper {
             }
         }
         self.ensure_contact_pattern(sys, contact.as_ref(), state.step);
-        self.solver.moved(&super::vectors::node_positions(sys, state));
+        self.solver.moved(&|| super::vectors::node_positions(sys, state));
         let t = Instant::now();
         let (residual, keep) = self.start_residual(sys, state, run, contact.is_some());
         // The unbalanced force at the start, contacts included: M a₀ of a dynamic step.

@@ -21,20 +21,19 @@ pub(super) struct Layout {
     pair_start: Vec<[u32; 6]>,
     /// For each slot of AΦ (a row's block), the pair of the row's block and it in `pair_start`.
     slot_pair: Vec<u32>,
-    /// AΦ's rows: row i holds six values for each block in `a_phi_blocks[a_phi_rows[i]..]`.
-    a_phi_rows: Vec<u32>,
-    /// The blocks each row of A couples to (sorted within a row).
-    a_phi_blocks: Vec<u32>,
+    /// AΦ on this pattern (its values those of the last matrix, [`Layout::fill_a_phi`]).
+    pub(super) a_phi: APhi,
     /// For each entry (i, j) of `pattern`: where row i meets block(j), and row j block(i).
     a_phi_slot: Vec<[u32; 2]>,
 }
 
 /// AΦ (n × 6 per block), by rows: A applied to the blocks' rigid motions.
-#[derive(Default)]
 pub(super) struct APhi {
-    pub(super) rows: Vec<u32>,
-    pub(super) blocks: Vec<u32>,
-    pub(super) values: Vec<f64>,
+    /// Row i holds six values for each block in `blocks[rows[i]..rows[i + 1]]`.
+    rows: Vec<u32>,
+    /// The blocks each row of A couples to (sorted within a row).
+    blocks: Vec<u32>,
+    values: Vec<f64>,
 }
 
 impl APhi {
@@ -117,11 +116,11 @@ impl Layout {
             }
         }
         let coarse = SparsityPattern { n: 6 * blocks, col_ptr, row_idx };
-        let (a_phi_rows, a_phi_blocks, a_phi_slot) = a_phi_structure(p, node_block);
+        let (rows_of, blocks_of, a_phi_slot) = a_phi_structure(p, node_block);
         let slot_pair = (0..p.n)
-            .flat_map(|i| (a_phi_rows[i]..a_phi_rows[i + 1]).map(move |s| (i, s as usize)))
+            .flat_map(|i| (rows_of[i]..rows_of[i + 1]).map(move |s| (i, s as usize)))
             .map(|(i, s)| {
-                let (a, b) = (node_block[i / 3], a_phi_blocks[s]);
+                let (a, b) = (node_block[i / 3], blocks_of[s]);
                 let (hi, lo) = (a.max(b), a.min(b));
                 first_pair[lo as usize] + rows[lo as usize].binary_search(&hi).expect("coupled") as u32
             })
@@ -133,17 +132,17 @@ impl Layout {
             coarse,
             pair_start,
             slot_pair,
-            a_phi_rows,
-            a_phi_blocks,
+            a_phi: APhi { values: vec![0.0; 6 * blocks_of.len()], rows: rows_of, blocks: blocks_of },
             a_phi_slot,
         }
     }
 
     /// AΦ from A's lower triangle `values`: entry (i, j) adds a φ_j to row i at block(j), and
     /// (for i ≠ j) a φ_i to row j at block(i).
-    pub(super) fn a_phi(&self, values: &[f64], phi: &[[f64; 6]]) -> APhi {
+    pub(super) fn fill_a_phi(&mut self, values: &[f64], phi: &[[f64; 6]]) {
         let p = &self.pattern;
-        let mut out = vec![0.0; 6 * self.a_phi_blocks.len()];
+        let out = &mut self.a_phi.values;
+        out.fill(0.0);
         for j in 0..p.n {
             for k in p.col_ptr[j] as usize..p.col_ptr[j + 1] as usize {
                 let (i, v) = (p.row_idx[k] as usize, values[k]);
@@ -156,12 +155,12 @@ impl Layout {
                 }
             }
         }
-        APhi { rows: self.a_phi_rows.clone(), blocks: self.a_phi_blocks.clone(), values: out }
     }
 
     /// A_c = Φᵀ (AΦ) on the coarse pattern: row i of AΦ at block b adds φ_i ⊗ (AΦ)_ib into
     /// the pair (block(i), b), kept where that lies in A_c's lower triangle.
-    pub(super) fn coarse_values(&self, a_phi: &APhi, node_block: &[u32], phi: &[[f64; 6]]) -> Vec<f64> {
+    pub(super) fn coarse_values(&self, node_block: &[u32], phi: &[[f64; 6]]) -> Vec<f64> {
+        let a_phi = &self.a_phi;
         let mut out = vec![0.0; self.coarse.nnz()];
         for (i, f) in phi.iter().enumerate() {
             let bi = node_block[i / 3];

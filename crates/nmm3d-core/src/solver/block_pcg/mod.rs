@@ -27,7 +27,7 @@ use super::pcg::{pcg_with, PcgOutcome};
 use super::{LinearSolver, SolverFailure};
 use crate::assembly::SparsityPattern;
 use crate::scenario::{FactorPrecision, Ordering};
-use layout::{phi_row, APhi, Layout};
+use layout::{phi_row, Layout};
 
 /// Settings of the block-preconditioned conjugate gradients.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -57,9 +57,6 @@ struct TwoLevel {
     built_at: Vec<Vec3>,
     local: FaerCholesky,
     coarse: FaerCholesky,
-    /// Equations of the coarse system (six per block).
-    coarse_n: usize,
-    a_phi: APhi,
 }
 
 /// Conjugate gradients preconditioned by the blocks and their rigid motions.
@@ -98,8 +95,6 @@ impl BlockPcg {
             built_at: Vec::new(),
             local: direct(),
             coarse: direct(),
-            coarse_n: 0,
-            a_phi: APhi::default(),
         };
         let mut s = Self {
             params,
@@ -130,18 +125,17 @@ impl BlockPcg {
             if self.layout.as_ref().is_none_or(|l| l.coarse != layout.coarse) {
                 pre.coarse.new_pattern();
             }
-            pre.coarse_n = layout.coarse.n;
             self.layout = Some(layout);
         }
-        let layout = self.layout.as_ref().expect("made above");
+        let layout = self.layout.as_mut().expect("made above");
         let mut local = vec![0.0; layout.local.nnz()];
         for (k, &l) in layout.local_of.iter().enumerate().filter(|(_, l)| **l != u32::MAX) {
             local[l as usize] = values[k];
         }
         pre.local.factorize(&layout.local, &local)?;
-        pre.a_phi = layout.a_phi(values, &pre.phi);
+        layout.fill_a_phi(values, &pre.phi);
         pre.built_at.clone_from(&pre.positions);
-        let coarse = layout.coarse_values(&pre.a_phi, &pre.node_block, &pre.phi);
+        let coarse = layout.coarse_values(&pre.node_block, &pre.phi);
         self.values.clear();
         self.values.extend_from_slice(values);
         self.whole = None;
@@ -163,6 +157,29 @@ impl BlockPcg {
             Ok(mut direct) => direct.solve(rhs),
             Err(_) => rhs.fill(f64::NAN),
         }
+    }
+}
+
+impl BlockPcg {
+    /// PCG on the preconditioner of the last setup for the matrix `matrix` (`None`: that
+    /// setup's own) to `tolerance`; `rhs` holds the solution if it converged. `None` before
+    /// any setup.
+    fn iterate(
+        &mut self,
+        matrix: Option<(&SparsityPattern, &[f64])>,
+        rhs: &mut [f64],
+        tolerance: f64,
+    ) -> Option<PcgOutcome> {
+        let layout = self.layout.as_ref()?;
+        let (p, v) = matrix.unwrap_or((&layout.pattern, &self.values));
+        let mut x = vec![0.0; rhs.len()];
+        let tol = (tolerance, self.params.max_iterations);
+        let out = self.pre.pcg((layout, |u: &[f64], out: &mut [f64]| p.symmetric_times(v, u, out)), rhs, &mut x, tol);
+        self.iterations += u64::from(out.iterations);
+        if out.converged {
+            rhs.copy_from_slice(&x);
+        }
+        Some(out)
     }
 }
 
@@ -219,19 +236,25 @@ impl TwoLevel {
         }
     }
 
-    /// Solve A x = b by PCG on this preconditioner, A given by `times`.
-    fn pcg(&mut self, times: impl Fn(&[f64], &mut [f64]), b: &[f64], x: &mut [f64], tol: (f64, u32)) -> PcgOutcome {
-        let n = b.len();
-        let (mut c, mut w, mut t) = (vec![0.0; self.coarse_n], vec![0.0; self.coarse_n], vec![0.0; n]);
+    /// Solve A x = b by PCG on this preconditioner (made with `layout`'s AΦ), A given by `times`.
+    fn pcg(
+        &mut self,
+        (layout, times): (&Layout, impl Fn(&[f64], &mut [f64])),
+        b: &[f64],
+        x: &mut [f64],
+        tol: (f64, u32),
+    ) -> PcgOutcome {
+        let (n, a_phi) = (b.len(), &layout.a_phi);
+        let (mut c, mut w, mut t) = (vec![0.0; layout.coarse.n], vec![0.0; layout.coarse.n], vec![0.0; n]);
         // M⁻¹ r = Q r + (I − QA) B⁻¹ (I − AQ) r = y + Φ (c − A_c⁻¹ (AΦ)ᵀ y), with c = A_c⁻¹ Φᵀ r and
         // y = B⁻¹ (r − AΦ c): A enters only through AΦ, made with the factors.
         let precondition = |r: &mut [f64]| {
             self.restrict(r, &mut c);
             self.coarse.solve(&mut c);
-            self.a_phi.times(&c, &mut t);
+            a_phi.times(&c, &mut t);
             t.iter_mut().zip(r.iter()).for_each(|(t, r)| *t = r - *t);
             self.local.solve(&mut t);
-            self.a_phi.transpose_times(&t, &mut w);
+            a_phi.transpose_times(&t, &mut w);
             self.coarse.solve(&mut w);
             w.iter_mut().zip(&c).for_each(|(w, c)| *w = c - *w);
             r.copy_from_slice(&t);
@@ -255,16 +278,9 @@ impl LinearSolver for BlockPcg {
         if let Some(whole) = self.whole.as_mut() {
             return whole.solve(rhs);
         }
-        let Some(layout) = self.layout.as_ref() else { return rhs.fill(f64::NAN) };
-        let (p, v) = (&layout.pattern, &self.values);
-        let mut x = vec![0.0; rhs.len()];
-        let tol = (self.params.tolerance, self.params.max_iterations);
-        let out = self.pre.pcg(|u, out| p.symmetric_times(v, u, out), rhs, &mut x, tol);
-        self.iterations += u64::from(out.iterations);
-        if out.converged {
-            rhs.copy_from_slice(&x);
-        } else {
-            self.fall_back(rhs);
+        match self.iterate(None, rhs, self.params.tolerance) {
+            Some(out) if out.converged => {}
+            _ => self.fall_back(rhs),
         }
     }
 
@@ -275,21 +291,14 @@ impl LinearSolver for BlockPcg {
         rhs: &mut [f64],
         tolerance: f64,
     ) -> Option<PcgOutcome> {
-        if self.layout.is_none() || self.whole.is_some() || p.n != self.pre.node_block.len() * 3 {
+        if self.whole.is_some() || p.n != self.pre.node_block.len() * 3 {
             return None;
         }
-        let mut x = vec![0.0; rhs.len()];
-        let tol = (tolerance, self.params.max_iterations);
-        let out = self.pre.pcg(|u, out| p.symmetric_times(values, u, out), rhs, &mut x, tol);
-        self.iterations += u64::from(out.iterations);
-        if out.converged {
-            rhs.copy_from_slice(&x);
-        }
-        Some(out)
+        self.iterate(Some((p, values)), rhs, tolerance)
     }
 
-    fn moved(&mut self, positions: &[Vec3]) {
-        self.pre.moved(positions);
+    fn moved(&mut self, positions: &dyn Fn() -> Vec<Vec3>) {
+        self.pre.moved(&positions());
     }
 
     fn built_at(&self) -> &[Vec3] {
@@ -383,6 +392,19 @@ mod tests {
         (SparsityPattern { n, col_ptr, row_idx }, values, block, at)
     }
 
+    /// A block solver of `params` set up on `v` and its solution of A x = `b`.
+    fn solved(
+        params: BlockParams,
+        (p, v, block, at): (&SparsityPattern, &[f64], Vec<u32>, &[Vec3]),
+        b: &[f64],
+    ) -> (BlockPcg, Vec<f64>) {
+        let mut s = BlockPcg::new(block, at, params);
+        s.factorize(p, v).unwrap();
+        let mut x = b.to_vec();
+        s.solve(&mut x);
+        (s, x)
+    }
+
     fn rhs(n: usize) -> Vec<f64> {
         (0..n).map(|i| ((i * 7919) % 13) as f64 - 6.0 + 0.1 * i as f64).collect()
     }
@@ -417,7 +439,7 @@ mod tests {
             pre.restrict(&a_col, &mut out);
             want[k] = out;
         }
-        let got = layout.coarse_values(&pre.a_phi, &pre.node_block, &pre.phi);
+        let got = layout.coarse_values(&pre.node_block, &pre.phi);
         let c = &layout.coarse;
         for j in 0..m {
             for k in c.col_ptr[j] as usize..c.col_ptr[j + 1] as usize {
@@ -434,10 +456,7 @@ mod tests {
     fn the_block_preconditioned_solve_equals_the_direct_one() {
         let (p, v, block, at) = row_of_cubes(6, 1e-3, 1e-4);
         let b = rhs(p.n);
-        let mut s = BlockPcg::new(block, &at, BlockParams::default());
-        s.factorize(&p, &v).unwrap();
-        let mut x = b.clone();
-        s.solve(&mut x);
+        let (s, x) = solved(BlockParams::default(), (&p, &v, block, &at), &b);
         assert!(relative(&x, &direct(&p, &v, &b)) < 1e-8);
         assert_eq!(s.fallbacks, 0);
         assert!(s.iterations <= 10, "{} iterations", s.iterations);
@@ -449,10 +468,7 @@ mod tests {
         // exactly) leaves the row's slow rigid motions to CG; the coarse space solves them.
         let (p, v, block, at) = row_of_cubes(30, 1e-3, 1e-5);
         let b = rhs(p.n);
-        let mut s = BlockPcg::new(block, &at, BlockParams::default());
-        s.factorize(&p, &v).unwrap();
-        let mut x = b.clone();
-        s.solve(&mut x);
+        let (mut s, x) = solved(BlockParams::default(), (&p, &v, block, &at), &b);
         let two_level = s.iterations;
         let mut y = vec![0.0; p.n];
         let local = &mut s.pre.local;
@@ -467,10 +483,7 @@ mod tests {
         let (p, v, mut block, at) = row_of_cubes(3, 1e-2, 1e-4);
         *block.last_mut().unwrap() = 3;
         let b = rhs(p.n);
-        let mut s = BlockPcg::new(block, &at, BlockParams::default());
-        s.factorize(&p, &v).unwrap();
-        let mut x = b.clone();
-        s.solve(&mut x);
+        let (s, x) = solved(BlockParams::default(), (&p, &v, block, &at), &b);
         assert!(s.whole.is_none() && s.fallbacks == 0);
         assert!(relative(&x, &direct(&p, &v, &b)) < 1e-8);
     }
@@ -479,10 +492,7 @@ mod tests {
     fn a_solve_that_does_not_converge_is_factorised_instead() {
         let (p, v, block, at) = row_of_cubes(4, 1e-3, 1e-4);
         let b = rhs(p.n);
-        let mut s = BlockPcg::new(block, &at, BlockParams { max_iterations: 1, ..BlockParams::default() });
-        s.factorize(&p, &v).unwrap();
-        let mut x = b.clone();
-        s.solve(&mut x);
+        let (s, x) = solved(BlockParams { max_iterations: 1, ..BlockParams::default() }, (&p, &v, block, &at), &b);
         assert_eq!(s.fallbacks, 1);
         assert!(relative(&x, &direct(&p, &v, &b)) < 1e-12);
     }
@@ -495,7 +505,7 @@ mod tests {
         let turn = nalgebra::Rotation3::new(Vec3::new(0.0, 0.0, std::f64::consts::FRAC_PI_2));
         let moved: Vec<Vec3> = at.iter().map(|x| turn * x + Vec3::new(3.0, -1.0, 2.0)).collect();
         let mut s = BlockPcg::new(block, &at, BlockParams::default());
-        s.moved(&moved);
+        s.moved(&|| moved.clone());
         let rigid: Vec<f64> = moved
             .iter()
             .flat_map(|x| {
